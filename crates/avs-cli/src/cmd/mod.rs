@@ -1,0 +1,10 @@
+//! One module per subcommand. Each exposes `Args` (clap) and `run(Args) -> anyhow::Result<ExitCode>`.
+
+pub mod generate;
+pub mod infer;
+pub mod plan;
+pub mod pomdp;
+pub mod render;
+pub mod schema;
+pub mod segment;
+pub mod validate;

@@ -1,0 +1,63 @@
+//! `avs` — active visual object search from the command line.
+//!
+//! A thin layer over the avs libraries: each subcommand lives in its own module under `cmd/`,
+//! parses its flags with clap and reports library errors with context (anyhow).
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+mod cmd;
+
+/// Active visual object search: plan where to go, where to look, and when to give up.
+#[derive(Parser)]
+#[command(name = "avs", version, about, propagate_version = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Check avs files (environment, knowledge, domain, scenario) and report every problem.
+    Validate(cmd::validate::Args),
+    /// Print the JSON Schema of an avs file kind.
+    Schema(cmd::schema::Args),
+    /// Segment a complete map into rooms by door detection, and score it against ground truth.
+    Segment(cmd::segment::Args),
+    /// Draw an environment (fully known, or after some exploration steps) as SVG.
+    Render(cmd::render::Args),
+    /// Generate an office-like floor environment.
+    Generate(cmd::generate::Args),
+    /// Marginals of a UAI or libDAI factor graph by belief propagation or exact inference.
+    Infer(cmd::infer::Args),
+    /// Plan for a PDDL domain and problem.
+    Plan(cmd::plan::Args),
+    /// Solve or simulate a POMDP in Cassandra's format.
+    #[command(subcommand)]
+    Pomdp(cmd::pomdp::Command),
+}
+
+fn main() -> ExitCode {
+    tracing_subscriber::fmt()
+        .with_env_filter(tracing_subscriber::EnvFilter::from_default_env())
+        .with_writer(std::io::stderr)
+        .init();
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Validate(a) => cmd::validate::run(a),
+        Command::Schema(a) => cmd::schema::run(a),
+        Command::Segment(a) => cmd::segment::run(a),
+        Command::Render(a) => cmd::render::run(a),
+        Command::Generate(a) => cmd::generate::run(a),
+        Command::Infer(a) => cmd::infer::run(a),
+        Command::Plan(a) => cmd::plan::run(a),
+        Command::Pomdp(c) => cmd::pomdp::run(c),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}

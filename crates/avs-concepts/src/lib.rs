@@ -1,0 +1,4 @@
+//! # avs-concepts
+//!
+//! (Being built; see the crate description.)
+#![warn(missing_docs)]

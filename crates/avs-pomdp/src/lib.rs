@@ -1,0 +1,4 @@
+//! # avs-pomdp
+//!
+//! (Being built; see the crate description.)
+#![warn(missing_docs)]

@@ -1,0 +1,38 @@
+//! # avs-testdata
+//!
+//! Tests and benches compare avs against public benchmark files with answers from established
+//! tools. Those files are never copied into the project: they are found at `$AVS_REFERENCE_DATA`
+//! or at `../shared/data` beside the checkout. When they are absent, [`reference_data`] prints a
+//! visible notice and returns `None`, and the test skips itself, so a newcomer's clone passes.
+//!
+//! ```
+//! if let Some(dir) = avs_testdata::reference_data("bp") {
+//!     assert!(dir.is_dir());
+//! }
+//! ```
+#![warn(missing_docs)]
+
+use std::path::PathBuf;
+
+/// The reference data folder `sub` (e.g. `"bp"`, `"rooms"`), or `None` with a notice on stderr.
+pub fn reference_data(sub: &str) -> Option<PathBuf> {
+    let root = std::env::var_os("AVS_REFERENCE_DATA")
+        .map(PathBuf::from)
+        .or_else(|| {
+            // CARGO_MANIFEST_DIR is crates/<name>; the checkout is two levels up.
+            let here = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+            here.ancestors()
+                .nth(3)
+                .map(|p| p.join("shared").join("data"))
+        });
+    match root.map(|r| r.join(sub)) {
+        Some(dir) if dir.is_dir() => Some(dir),
+        other => {
+            eprintln!(
+                "NOTICE: reference data {:?} not found (set AVS_REFERENCE_DATA or place shared/data beside the checkout); skipping",
+                other.unwrap_or_else(|| PathBuf::from(sub))
+            );
+            None
+        }
+    }
+}
