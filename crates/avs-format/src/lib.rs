@@ -11,22 +11,59 @@
 //! Domain files belong to `avs-plan` (which uses this crate's loader); semantic checks that need
 //! the occupancy grid live in `avs-sim`.
 //!
+//! ## Choices made for validation
+//! - **Bounds before building.** serde_yaml stops at 128 levels of recursion and at
+//!   100 × (number of events) alias jumps, which still lets a 16 MB file expand quadratically.
+//!   [`load_yaml_str`] therefore first walks the text with the `yaml-rust2` event parser (which
+//!   never expands aliases): at most [`positions::MAX_DEPTH`] levels of nesting and
+//!   [`positions::MAX_ALIAS_NODES`] nodes added by aliases, counted without expanding (an
+//!   alias counts the expanded size of its anchor). Files are at most [`load::MAX_FILE_BYTES`].
+//! - **Positions for semantic errors.** Checkers report dotted field paths
+//!   (`objects[2].room`, the notation of `serde_path_to_error`); [`positions::locate`] maps
+//!   them back to line and column with the same event walk, falling back to the longest written
+//!   prefix (a field left at its default is reported at its parent).
+//! - **Environment rules** ([`check_env`]): every number finite; sizes, widths, resolution,
+//!   radius, speed positive; thresholds in [0, 1]; names unique per kind (rooms, doors,
+//!   objects); references (`room`, `on`, `in`, door `rooms`) resolve; a supporting object is a
+//!   landmark in the same room, under the object (footprint + 5 cm), with no support cycles;
+//!   with a knowledge file, categories and classes are known ones and landmarks have landmark
+//!   classes. A room needs a `seed` or a `polygon`, since without either it has no extent.
+//!   Every check is linear (or n log n) in the file, so a large file cannot make it hang.
+//! - **Scenarios** ([`scenario`]) are only a header (`kind: scenario` in a mapping) until a
+//!   later issue defines them; [`schema::schema_json`] says exactly that for them and prints
+//!   the schemas of environments and knowledge files generated from the types (schemars).
+//!
 //! ```
 //! use avs_format::{environment::Environment, load_yaml_str};
 //! let env: Environment = load_yaml_str("inline.yaml", r#"
 //! kind: environment
 //! name: tiny
-//! map: { ascii: "#####\n#...#\n#####\n", resolution: 0.5 }
+//! map:
+//!   ascii: |
+//!     #####
+//!     #...#
+//!     #####
+//!   resolution: 0.5
 //! robot: { start: { x: 1.0, y: 0.75 } }
 //! "#).unwrap();
 //! assert_eq!(env.name, "tiny");
+//! assert!(avs_format::check_env::check_environment("inline.yaml", &env, None).is_empty());
+//!
+//! // A wrong type is reported with its field path, line and column.
+//! let err = load_yaml_str::<Environment>("bad.yaml", "kind: environment\nname: [1]\n").unwrap_err();
+//! assert_eq!(err.diagnostics[0].path, "name");
+//! assert_eq!(err.diagnostics[0].line, Some(2));
 //! ```
 #![warn(missing_docs)]
 
+pub mod check_env;
 pub mod diag;
 pub mod environment;
 pub mod knowledge;
 pub mod load;
+pub mod positions;
+pub mod scenario;
+pub mod schema;
 
 pub use diag::{Diagnostic, Diagnostics};
 pub use load::{load_yaml, load_yaml_str, read_kind, FileKind, LoadError};

@@ -1,1 +1,153 @@
-//! (Being built.)
+//! Exploration utility of a viewpoint: newly seen area divided by travel cost (Masuzawa & Miura,
+//! `001_fbcdba3c18be7464.txt` eq. 6: U(X) = ΔI(X) / C(X, X_c)).
+//!
+//! ΔI is estimated optimistically: rays are cast from the candidate over the *known* grid, unknown
+//! cells count as see-through and each unknown cell a ray crosses before a known obstacle (or the
+//! sensor's range) counts once. C is the travel distance over known free space (Dijkstra from the
+//! robot, [`crate::nav::distance_field`]), floored at `min_cost` so a candidate at the robot's
+//! feet does not get infinite utility.
+
+use crate::grid::{Cell, OccupancyGrid};
+use crate::nav::{distance_field, Traversability};
+use crate::raycast::walk_segment;
+
+/// How far the robot and a candidate may be from a traversable cell and still be costed, metres:
+/// a robot that reached a frontier stands next to unknown space, which the known map's
+/// traversability treats as blocked.
+const SNAP: f64 = 1.0;
+
+/// Unknown area (m²) a 360° sensor of `range` metres at `pos` would newly see.
+pub fn new_area(known: &OccupancyGrid, pos: [f64; 2], range: f64) -> f64 {
+    let res = known.resolution();
+    let rays = ((std::f64::consts::TAU * range / res).ceil() as usize).max(8);
+    let mut counted = std::collections::HashSet::new();
+    for i in 0..rays {
+        let a = i as f64 / rays as f64 * std::f64::consts::TAU;
+        let end = [pos[0] + range * a.cos(), pos[1] + range * a.sin()];
+        walk_segment(known, pos, end, |c, r| {
+            if !known.contains(c, r) {
+                return false;
+            }
+            match known.get_i(c, r) {
+                Cell::Occupied => false,
+                Cell::Unknown => {
+                    counted.insert((c, r));
+                    true
+                }
+                Cell::Free => true,
+            }
+        });
+    }
+    counted.len() as f64 * res * res
+}
+
+/// A scored exploration candidate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scored {
+    /// Index of the candidate in the caller's list.
+    pub index: usize,
+    /// Where the robot would stand: the reachable cell nearest to the candidate (a placeholder
+    /// at the end of a thin wedge seen through a doorway is itself too close to unknown space
+    /// to stand on).
+    pub stand: [f64; 2],
+    /// ΔI at the standing point, m².
+    pub gain: f64,
+    /// C, metres of travel to the standing point.
+    pub cost: f64,
+    /// U = ΔI / max(C, min_cost).
+    pub utility: f64,
+}
+
+/// How far from a candidate its standing point may be, metres.
+pub const STAND_RADIUS: f64 = 2.0;
+
+/// Score candidate viewpoints from the robot at `robot` (eq. 6), best first; candidates with no
+/// reachable cell within [`STAND_RADIUS`] are left out. Ties break on the candidate index, so the
+/// order is deterministic.
+pub fn rank_viewpoints(
+    known: &OccupancyGrid,
+    trav: &Traversability,
+    robot: [f64; 2],
+    candidates: &[[f64; 2]],
+    sensor_range: f64,
+    min_cost: f64,
+) -> Vec<Scored> {
+    let field = distance_field(trav, robot, SNAP);
+    let reach = (STAND_RADIUS / known.resolution()).ceil() as i64;
+    let mut out: Vec<Scored> = candidates
+        .iter()
+        .enumerate()
+        .filter_map(|(index, &p)| {
+            let (c, r) = known.world_to_cell(p[0], p[1]);
+            // The reachable cell nearest to the candidate (then the cheaper one).
+            let mut best: Option<(i64, f64, (i64, i64))> = None;
+            for dr in -reach..=reach {
+                for dc in -reach..=reach {
+                    let d2 = dc * dc + dr * dr;
+                    if d2 > reach * reach || !known.contains(c + dc, r + dr) {
+                        continue;
+                    }
+                    let cost = field[known.index((c + dc) as usize, (r + dr) as usize)];
+                    if cost.is_finite() && best.is_none_or(|(bd, bc, _)| (d2, cost) < (bd, bc)) {
+                        best = Some((d2, cost, (c + dc, r + dr)));
+                    }
+                }
+            }
+            let (_, cost, cell) = best?;
+            let (x, y) = known.cell_center(cell.0, cell.1);
+            let gain = new_area(known, [x, y], sensor_range);
+            Some(Scored {
+                index,
+                stand: [x, y],
+                gain,
+                cost,
+                utility: gain / cost.max(min_cost),
+            })
+        })
+        .collect();
+    out.sort_by(|a, b| b.utility.total_cmp(&a.utility).then(a.index.cmp(&b.index)));
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gain_is_zero_when_everything_is_known_and_grows_with_unknown_space() {
+        let known =
+            OccupancyGrid::from_ascii("#######\n#.....#\n#.....#\n#######\n", 0.5, [0.0, 0.0])
+                .unwrap();
+        assert_eq!(new_area(&known, [1.0, 1.0], 5.0), 0.0);
+        let partly =
+            OccupancyGrid::from_ascii("#######\n#..???#\n#..???#\n#######\n", 0.5, [0.0, 0.0])
+                .unwrap();
+        let g = new_area(&partly, [1.0, 1.0], 5.0);
+        assert!(
+            (g - 6.0 * 0.25).abs() < 1e-9,
+            "six unknown cells of 0.25 m², got {g}"
+        );
+    }
+
+    #[test]
+    fn nearer_of_two_equal_gains_ranks_first() {
+        let known = OccupancyGrid::from_ascii(
+            "###############\n#?...........?#\n#?...........?#\n###############\n",
+            0.5,
+            [0.0, 0.0],
+        )
+        .unwrap();
+        let trav = Traversability::new(&known, 0.0, false);
+        let ranked = rank_viewpoints(
+            &known,
+            &trav,
+            [2.0, 1.0],
+            &[[6.25, 1.0], [1.25, 1.0]],
+            1.0,
+            0.5,
+        );
+        assert_eq!(ranked.len(), 2);
+        assert_eq!(ranked[0].index, 1, "{ranked:?}");
+        assert!(ranked[0].utility > ranked[1].utility);
+    }
+}

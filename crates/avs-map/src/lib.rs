@@ -16,6 +16,7 @@ pub mod doors;
 pub mod explore;
 pub mod grid;
 pub mod metrics;
+pub mod nav;
 pub mod places;
 pub mod raycast;
 pub mod segment;

@@ -1,12 +1,158 @@
 //! # avs-plan
 //!
-//! (Being built; see the crate description.)
+//! The strategic half of the switching planner of Aydemir, Göbelbecker, Pronobis, Sjöö and
+//! Jensfelt, *Plan-based object search and exploration using semantic spatial knowledge in the
+//! real world* (ECMR 2011; `002` in the papers folder), §II-A.1 and §II-B: an assumptive
+//! continual planner on SAS+ (Bäckström & Nebel 1995).
+//!
+//! * [`domain`]: domain files (`kind: domain`, YAML) — types, constants, pools of virtual
+//!   objects, static relations, finite-domain state variables, operators with preconditions,
+//!   effects, a cost and a success probability (constants or caller-supplied functions such as
+//!   `distance(?a, ?b)` or `p-category(?r, ?c)`), assumptive operators. [`check_domain`] reports
+//!   every problem of a file.
+//! * [`problem`]: the current state as the caller knows it, and the [`problem::Functions`]
+//!   trait through which costs and probabilities come in (this crate knows no maps).
+//! * [`ground`]: grounding with relaxed-reachability pruning into a [`Task`].
+//! * [`search`]: best-first search for the plan minimising cost(π) + R·(1 − Π p(a)) (paper 002,
+//!   §II-A.1); [`Mode::Optimal`] is A* with LM-cut, [`Mode::Fast`] greedy best-first search with
+//!   h^FF and preferred operators. The argument for exactness is in [`search`].
+//! * [`continual`]: plan, [`monitor`](continual::ContinualPlanner::monitor) after each step
+//!   (continue / replan with a reason / goal reached), give up below a success threshold.
+//! * [`pddl`]: PDDL import (STRIPS, typing, negative preconditions, equality, action costs) and
+//!   an independent plan validator; [`lifted::validate_steps`] and [`validate_sas`] validate
+//!   plans of YAML domains and of grounded tasks.
+//!
+//! ## Choices where the paper is vague
+//! * **Probability of a plan.** p(π) = Π p(a) over all steps; assumptions carry the caller's
+//!   probability (P_category, P(ObjectAt L)); sensing steps carry a detection probability.
+//! * **Heuristic for the objective.** Two admissible values, one on costs and one on −ln p,
+//!   bound the remaining cost and the remaining −Σ ln p separately;
+//!   f = g + h_c + R·(1 − e^{ℓ − h_ℓ}). Both come from LM-cut ([`Heuristic::LmCut`], the
+//!   default, as Fast Downward's optimal configuration) or from h^max ([`Heuristic::HMax`], the
+//!   continual planner's default: in the object-search domain relaxed plans are chains, where
+//!   h^max expands as few states as LM-cut at a fraction of the cost per state).
+//!   Child states are queued with the admissible estimate max(0, h(parent) − cost(a)) and
+//!   evaluated when popped (deferred evaluation).
+//! * **Duplicates.** Per state the Pareto set of (cost, ln p) labels is kept; see [`search`].
+//! * **Virtual objects.** A parameter `?o: new T` binds the next unused object of the pool of T
+//!   (`new-object1`, then `new-object2`, …); the monitor matches a virtual object to the real
+//!   object that the world reveals in its place (paper §II-B.3).
+//! * **Assumptions first.** With `assumptions_first: true` a domain lets assumptive operators
+//!   apply only before the first non-assumptive step (a `(phase)` variable). This loses no plan
+//!   when no non-assumptive operator enables an assumption (true of `object_search.yaml`: the
+//!   physical actions never set what an assumption reads), and removes the interleavings of
+//!   assumptions with actions that otherwise dominate the search. Plans are printed with
+//!   assumptions as early as they stay valid, as in the paper's listings.
+//! * **`unknown`.** The value named `unknown` is what monitoring treats as "not yet observed":
+//!   an assumption on a variable still `unknown` stays open; any other value confirms or
+//!   contradicts it.
+//! * **Fast mode costs.** The relaxed plan is costed with 1 + cost(a) + R·(−ln p(a)), an additive
+//!   over-estimate of each step's share of the objective (R·(1 − p) ≤ R·(−ln p)).
+//!
+//! ```
+//! use avs_plan::{check_domain, continual::{ContinualPlanner, Decision}, domain::Domain,
+//!     problem::Problem};
+//! let text = r#"
+//! kind: domain
+//! name: rooms
+//! types: [place, category]
+//! relations: { connected: [place, place] }
+//! variables:
+//!   robot-at: { type: place }
+//!   kind: { parameters: [place], type: category, values: [unknown], default: unknown }
+//!   done: { values: ["no", "yes"], default: "no" }
+//! operators:
+//!   - name: move
+//!     display: MOVE ?to
+//!     parameters: ["?a: place", "?to: place"]
+//!     precondition: ["robot-at = ?a", "connected(?a, ?to)"]
+//!     effect: ["robot-at := ?to"]
+//!     cost: distance(?a, ?to)
+//!   - name: assume-kind
+//!     display: ASSUME-KIND ?p ?c
+//!     parameters: ["?p: place", "?c: category"]
+//!     precondition: ["kind(?p) = unknown"]
+//!     effect: ["kind(?p) := ?c"]
+//!     probability: p-kind(?p, ?c)
+//!     cost: 0
+//!     assumption: true
+//!   - name: search
+//!     display: SEARCH ?p
+//!     parameters: ["?p: place", "?c: category"]
+//!     precondition: ["robot-at = ?p", "kind(?p) = ?c"]
+//!     effect: ["done := yes"]
+//! "#;
+//! assert!(check_domain("rooms.yaml", text).is_empty());
+//! let domain = Domain::from_yaml("rooms.yaml", text).unwrap();
+//! let problem = Problem::new()
+//!     .object("a", "place").object("b", "place").object("kitchen", "category")
+//!     .fact("connected(a, b)").init("robot-at = a").goal("done = yes");
+//! let f = |name: &str, args: &[&str]| match (name, args) {
+//!     ("distance", _) => Some(2.0),
+//!     ("p-kind", [p, _]) => Some(if *p == "b" { 0.9 } else { 0.1 }),
+//!     _ => None,
+//! };
+//! let planner = ContinualPlanner::new(domain, Default::default());
+//! let Decision::Plan(plan) = planner.plan(&problem, &f).unwrap() else { panic!() };
+//! assert_eq!(plan.listing(), "ASSUME-KIND b kitchen\nMOVE b\nSEARCH b\n");
+//! ```
 #![warn(missing_docs)]
 
-/// Parse and check a domain file's text, returning every problem found (empty when valid).
+pub mod continual;
+pub mod domain;
+pub mod expr;
+pub mod ground;
+pub mod heuristics;
+pub mod lifted;
+pub mod pddl;
+pub mod problem;
+pub mod search;
+pub mod task;
+
+pub use search::{search, Heuristic, Mode, SearchOptions};
+pub use task::{validate_sas, Plan, SearchStats, Task};
+
+/// Errors of the planner.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PlanError {
+    /// A PDDL file could not be read.
+    #[error("{file}: {message}")]
+    Pddl {
+        /// The file.
+        file: String,
+        /// What is wrong and what is expected.
+        message: String,
+    },
+    /// A grounded task is inconsistent.
+    #[error("invalid task: {0}")]
+    InvalidTask(String),
+    /// A search option is out of range.
+    #[error("invalid option: {0}")]
+    InvalidOption(String),
+    /// A problem does not fit its domain.
+    #[error("problem: {0}")]
+    Problem(String),
+    /// A caller-supplied function failed.
+    #[error("function {call}: {message}")]
+    Function {
+        /// The call, e.g. `p-category(room1, kitchen)`.
+        call: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// The search expanded more states than allowed.
+    #[error("search gave up after {0} expansions")]
+    SearchLimit(u64),
+}
+
+/// Parse and check a domain file's text, returning every problem found (empty when valid):
+/// YAML and field errors, unknown types, variables, relations, values, parameters and
+/// operators, arity and type mismatches, values outside a variable's domain, costs that are
+/// negative, infinite or NaN, probabilities outside (0, 1] or NaN, duplicate names, and
+/// display templates naming unknown parameters — each with the file, field path and fix.
 pub fn check_domain(file: &str, text: &str) -> Vec<avs_format::Diagnostic> {
-    match avs_format::load_yaml_str::<serde::de::IgnoredAny>(file, text) {
+    match domain::Domain::from_yaml(file, text) {
         Ok(_) => Vec::new(),
-        Err(e) => e.diagnostics,
+        Err(d) => d,
     }
 }

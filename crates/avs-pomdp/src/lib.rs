@@ -1,4 +1,88 @@
 //! # avs-pomdp
 //!
-//! (Being built; see the crate description.)
+//! Discrete POMDPs for the decision-theoretic half of the avs switching planner (Aydemir et al. 2011,
+//! `002` §II-A.2): when the continual planner reaches SEARCHFOROBJECT, a small POMDP over the view cones
+//! of one location decides, closed loop, where to move and which cone to process until the target is
+//! confirmed or the location rejected.
+//!
+//! * [`model`] — the finite POMDP and its Bayes filter; [`cassandra`] — Cassandra's `.pomdp` format.
+//! * [`offline`] — HSVI2 (Smith & Simmons 2005): α-vector lower bound, sawtooth upper bound, trials
+//!   driven by the gap at the initial belief; [`bounds`] — the bounds and their initialisation.
+//! * [`online`] — RTBSS (Ross, Pineau, Paquet & Chaib-draa 2008, Algorithm 3.2): depth-limited
+//!   forward search with branch-and-bound on the offline bounds; [`online::expectimax`] is the
+//!   brute-force reference.
+//! * [`viewcone`] — the view-cone POMDP and the closed-loop [`ViewConeSession`];
+//!   [`cover`] — CREATEVIEWCONES by greedy coverage (Sjöö et al., `004` §2.1).
+//! * [`simulate`](mod@simulate) — seeded Monte-Carlo evaluation of a policy.
+//!
+//! ## Choices where the papers are vague
+//! * **Offline solver.** HSVI2 rather than SARSOP: both keep the same two bounds and stop on the
+//!   gap at b₀; HSVI's exploration needs no learned heuristics and is exact in its guarantees. The
+//!   upper bound starts from the fast informed bound (itself started from Q_MDP), the lower bound from
+//!   blind-policy vectors. Pointwise-dominated α-vectors and redundant upper-bound points are pruned,
+//!   and α-vectors that are maximal at no stored belief are dropped (HSVI2's pruning), whenever the
+//!   bounds have grown by half. Each backup builds the α-vector of the best action only (chosen from
+//!   the posteriors' values) and reuses the forward pass's upper Q-values for the actions whose
+//!   successors did not change (stale upper values are still upper bounds). T is stored sparsely.
+//! * **Rewards.** Cassandra rewards `R(s,a,s',z)` are reduced to their expectation `R(s,a)`, which is
+//!   all a value-based solver needs; `values: cost` negates them.
+//! * **View-cone POMDP.** The robot's pose (start or the last processed cone) is part of the state so
+//!   that travel costs between cone poses enter the rewards; it is always known, so beliefs stay
+//!   sparse. "Move to cone i" and "process cone i" are one action (the paper's MOVE + PROCESSVIEWCONE):
+//!   moving without processing never gains information. Declarations end the session. Overlapping cones
+//!   are made disjoint by giving each cell to the first cone (greedy order) that covers it; mass of
+//!   uncovered cells joins "not in the location", since no observation can tell them apart. The paper's
+//!   FN/FP rates 0.2/0.05 are the defaults a caller would read from the knowledge file.
+//! * **Session.** Each `next_action()` runs RTBSS (default depth 2) on bounds refined by HSVI for a
+//!   short budget when the session starts (default 200 ms); a step guard forces a declaration after
+//!   `max_steps`. An observation the model calls impossible (e.g. a detection with FP = 0 where the
+//!   belief rules the target out) is an error, not a silent reset.
+//! * **RTBSS leaves.** At depth 1 the children are leaves, so all actions are evaluated exactly
+//!   instead of being ordered by U (same value, less work); deeper, Algorithm 3.2 is followed.
+//! * **CREATEVIEWCONES.** Candidate pans/tilts are spaced by half the field of view; visibility is the
+//!   cell-centre test of §2.1.2 plus the object's min/max distance (§2.1.3) and a caller-supplied
+//!   line-of-sight predicate; views are chosen by greedy set cover (§2.1.4).
+//!
+//! ## Example
+//! ```
+//! use avs_pomdp::{parse_pomdp, solve, OfflineOptions};
+//! let text = "discount: 0.95\nvalues: reward\nstates: tiger-left tiger-right\n\
+//!             actions: listen open-left open-right\nobservations: hear-left hear-right\n\
+//!             start: uniform\n\
+//!             T: listen\nidentity\nT: open-left\nuniform\nT: open-right\nuniform\n\
+//!             O: listen\n0.85 0.15\n0.15 0.85\nO: open-left\nuniform\nO: open-right\nuniform\n\
+//!             R: listen : * : * : * -1\n\
+//!             R: open-left : tiger-left : * : * -100\nR: open-left : tiger-right : * : * 10\n\
+//!             R: open-right : tiger-left : * : * 10\nR: open-right : tiger-right : * : * -100\n";
+//! let model = parse_pomdp(text, "tiger").unwrap();
+//! let sol = solve(&model, &OfflineOptions { target_gap: 1e-2, ..Default::default() }).unwrap();
+//! assert!(sol.upper - sol.lower <= 1e-2);
+//! assert!((sol.lower - 19.37).abs() < 0.05); // the known optimum 19.3714
+//! // The first action of the lower bound's policy at b₀ is to listen.
+//! assert_eq!(sol.bounds.lower_action(model.initial_belief()), 0);
+//! ```
 #![warn(missing_docs)]
+
+pub mod bounds;
+pub mod cassandra;
+pub mod cover;
+pub mod error;
+pub mod model;
+pub mod offline;
+pub mod online;
+pub mod simulate;
+pub mod viewcone;
+
+pub use bounds::{AlphaVector, Bounds};
+pub use cassandra::{parse_pomdp, read_pomdp_file};
+pub use cover::{create_view_cones, CameraModel, DetectionRange, PlannedView, ViewConePlan};
+pub use error::{PomdpError, Result};
+pub use model::{Pomdp, PomdpTables};
+pub use offline::{solve, solve_from, OfflineOptions, OfflineSolution, StopReason};
+pub use online::{expectimax, rtbss, OnlineDecision, OnlineOptions};
+pub use simulate::{horizon_for, simulate, SimulationSummary};
+pub use viewcone::{
+    cone_priors, euclidean_travel, ConeBelief, DecisionRewards, Outcome, SessionOptions,
+    ViewConeAction, ViewConePomdp, ViewConeProblem, ViewConeSession, PAPER_FALSE_NEGATIVE,
+    PAPER_FALSE_POSITIVE,
+};

@@ -4,9 +4,36 @@
 //! motion along collision-free shortest paths, a laser that reveals the map, closed doors that
 //! block, ground-truth queries for camera sensor models, and a procedural floor generator.
 //! Everything stochastic takes an explicit seed.
+//!
+//! ```
+//! use avs_sim::{World, SimRobot};
+//! let env: avs_format::environment::Environment = avs_format::load_yaml_str("tiny.yaml", r#"
+//! kind: environment
+//! name: tiny
+//! map:
+//!   resolution: 0.5
+//!   ascii: |
+//!     ##########
+//!     #........#
+//!     #........#
+//!     ##########
+//! rooms: [ { name: hall, category: corridor, seed: { x: 1.0, y: 1.0 } } ]
+//! robot: { start: { x: 0.75, y: 0.75 }, radius: 0.2 }
+//! "#).unwrap();
+//! let world = World::new(env, std::path::Path::new(".")).unwrap();
+//! let mut robot = SimRobot::new(&world, 7);
+//! let m = robot.move_to([4.25, 1.25]);
+//! assert!(m.reached && robot.path_length > 3.0);
+//! ```
 #![warn(missing_docs)]
 
 pub mod check;
+pub mod explore;
+pub mod generate;
+pub mod render;
+pub mod robot;
 pub mod world;
 
-pub use world::{load_grid, SimError};
+pub use explore::Explorer;
+pub use robot::{Motion, SimRobot};
+pub use world::{load_grid, CameraView, SimError, ViewedObject, World};

@@ -1,7 +1,9 @@
 //! The ground-truth world built from an environment file.
 
-use avs_format::environment::{Environment, MapSource};
-use avs_map::grid::{MapError, OccupancyGrid};
+use avs_format::environment::{Environment, MapSource, Object, ObjectRole};
+use avs_map::grid::{Cell, MapError, OccupancyGrid};
+use avs_map::raycast::{line_of_sight, walk_segment};
+use std::collections::VecDeque;
 use std::path::Path;
 
 /// Errors building or running the simulated world.
@@ -34,4 +36,315 @@ pub fn load_grid(env: &Environment, base_dir: &Path) -> Result<OccupancyGrid, Si
             r.free_thresh,
         )?,
     })
+}
+
+/// The simulated world: the environment and the grids derived from it.
+#[derive(Debug, Clone)]
+pub struct World {
+    /// The environment as written.
+    pub env: Environment,
+    /// Walls and closed doors only: what blocks the camera's line of sight.
+    pub walls: OccupancyGrid,
+    /// Walls, closed doors and furniture footprints: what blocks motion and the laser.
+    pub truth: OccupancyGrid,
+    /// Ground-truth room index of every cell (`None` for walls and unlabelled space), as
+    /// [`OccupancyGrid::index`]; rooms are `env.rooms` in order.
+    pub room_of_cell: Vec<Option<usize>>,
+}
+
+impl World {
+    /// Build the world from an environment; `base_dir` is the environment file's folder.
+    pub fn new(env: Environment, base_dir: &Path) -> Result<Self, SimError> {
+        let mut walls = load_grid(&env, base_dir)?;
+        for (i, d) in env.doors.iter().enumerate() {
+            if !(d.width.is_finite() && d.width > 0.0) {
+                return Err(SimError::Invalid {
+                    field: format!("doors[{i}].width"),
+                    message: format!("got {}; expected a positive width in metres", d.width),
+                });
+            }
+            if !d.open {
+                rasterise_door(&mut walls, d, Cell::Occupied);
+            }
+        }
+        let mut truth = walls.clone();
+        for o in &env.objects {
+            if o.role == ObjectRole::Landmark && o.pose.z <= 0.0 {
+                rasterise_box(&mut truth, o, Cell::Occupied);
+            }
+        }
+        let room_of_cell = label_rooms(&walls, &env)?;
+        Ok(Self {
+            env,
+            walls,
+            truth,
+            room_of_cell,
+        })
+    }
+
+    /// Load an environment file and build its world.
+    pub fn load(path: &Path) -> Result<Self, SimError> {
+        let env: Environment = avs_format::load_yaml(path).map_err(|e| SimError::Invalid {
+            field: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        Self::new(env, base)
+    }
+
+    /// The ground-truth room (index into `env.rooms`) at a world point.
+    pub fn room_at(&self, x: f64, y: f64) -> Option<usize> {
+        let (c, r) = self.walls.world_to_cell(x, y);
+        if !self.walls.contains(c, r) {
+            return None;
+        }
+        self.room_of_cell[self.walls.index(c as usize, r as usize)]
+    }
+
+    /// Free-space area of each ground-truth room, m².
+    pub fn room_areas(&self) -> Vec<f64> {
+        let mut a = vec![0.0; self.env.rooms.len()];
+        let cell = self.walls.resolution().powi(2);
+        for r in self.room_of_cell.iter().flatten() {
+            a[*r] += cell;
+        }
+        a
+    }
+
+    /// Objects of a class.
+    pub fn objects_of_class<'a>(&'a self, class: &'a str) -> impl Iterator<Item = &'a Object> + 'a {
+        self.env.objects.iter().filter(move |o| o.class == class)
+    }
+
+    /// What a camera at `eye` (x, y, height) sees of the world's objects when looking along
+    /// `yaw` (radians, world frame) and `tilt` (radians, negative down) with horizontal and
+    /// vertical fields of view `hfov`, `vfov` (radians, already divided by the zoom).
+    pub fn objects_in_view(&self, view: &CameraView) -> Vec<ViewedObject> {
+        let mut out = Vec::new();
+        for (i, o) in self.env.objects.iter().enumerate() {
+            let top = o.pose.z + o.size[2] / 2.0;
+            let (dx, dy, dz) = (
+                o.pose.x - view.eye[0],
+                o.pose.y - view.eye[1],
+                top - view.eye[2],
+            );
+            let ground = (dx * dx + dy * dy).sqrt();
+            let distance = (ground * ground + dz * dz).sqrt();
+            let bearing = wrap_angle(dy.atan2(dx) - view.yaw);
+            let elevation = dz.atan2(ground) - view.tilt;
+            if bearing.abs() > view.hfov / 2.0 || elevation.abs() > view.vfov / 2.0 {
+                continue;
+            }
+            // Occlusion by walls and closed doors; the object's own cell is not an occluder.
+            let visible = line_of_sight(
+                &self.walls,
+                [view.eye[0], view.eye[1]],
+                [o.pose.x, o.pose.y],
+                false,
+            );
+            out.push(ViewedObject {
+                index: i,
+                distance,
+                bearing,
+                elevation,
+                visible,
+            });
+        }
+        out
+    }
+}
+
+/// A camera's viewing geometry in the world frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraView {
+    /// Camera position: x, y, height above the floor (metres).
+    pub eye: [f64; 3],
+    /// Viewing direction in the plane, radians.
+    pub yaw: f64,
+    /// Tilt, radians (negative looks down).
+    pub tilt: f64,
+    /// Horizontal field of view, radians.
+    pub hfov: f64,
+    /// Vertical field of view, radians.
+    pub vfov: f64,
+}
+
+/// One object inside a camera's field of view.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ViewedObject {
+    /// Index into `env.objects`.
+    pub index: usize,
+    /// Distance from the camera to the object's top centre, metres.
+    pub distance: f64,
+    /// Angle off the optical axis in the plane, radians.
+    pub bearing: f64,
+    /// Angle off the optical axis vertically, radians.
+    pub elevation: f64,
+    /// Whether no wall or closed door blocks the line of sight.
+    pub visible: bool,
+}
+
+/// Wrap an angle to (−π, π].
+pub fn wrap_angle(a: f64) -> f64 {
+    let t = std::f64::consts::TAU;
+    let mut x = a % t;
+    if x <= -std::f64::consts::PI {
+        x += t;
+    } else if x > std::f64::consts::PI {
+        x -= t;
+    }
+    x
+}
+
+/// The grid cells of a door's opening: a segment across the direction of passage, `width` long
+/// plus a cell at each end, three cells thick along the passage so 8-connected motion cannot
+/// slip through diagonally. Cells outside the grid are left out.
+pub fn door_cells(grid: &OccupancyGrid, d: &avs_format::environment::Door) -> Vec<(usize, usize)> {
+    let yaw = d.pose.yaw_deg.to_radians();
+    // The opening runs perpendicular to the direction of passage. A door wider than the map is
+    // cut to the map (the walk along it stays bounded).
+    let (ux, uy) = (-yaw.sin(), yaw.cos());
+    let diag = (grid.width() + grid.height()) as f64 * grid.resolution();
+    let h = (d.width / 2.0 + grid.resolution()).min(diag);
+    let a = [d.pose.x - ux * h, d.pose.y - uy * h];
+    let b = [d.pose.x + ux * h, d.pose.y + uy * h];
+    let mut line = Vec::new();
+    walk_segment(grid, a, b, |col, row| {
+        line.push((col, row));
+        true
+    });
+    let (px, py) = (yaw.cos(), yaw.sin());
+    let mut out = Vec::new();
+    for (col, row) in line {
+        let (x, y) = grid.cell_center(col, row);
+        for s in [-1.0, 0.0, 1.0] {
+            let (cc, rr) = grid.world_to_cell(x + px * s * grid.resolution(), y + py * s * grid.resolution());
+            if grid.contains(cc, rr) {
+                out.push((cc as usize, rr as usize));
+            }
+        }
+    }
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+/// Mark the free cells of a door's opening (see [`door_cells`]) as `c`.
+pub fn rasterise_door(grid: &mut OccupancyGrid, d: &avs_format::environment::Door, c: Cell) {
+    for (col, row) in door_cells(grid, d) {
+        if grid.get(col, row) == Cell::Free {
+            grid.set(col, row, c);
+        }
+    }
+}
+
+/// Mark the footprint of an object's (yawed) bounding box.
+pub fn rasterise_box(grid: &mut OccupancyGrid, o: &Object, c: Cell) {
+    let yaw = o.pose.yaw_deg.to_radians();
+    let (hl, hw) = (o.size[0] / 2.0, o.size[1] / 2.0);
+    let rad = (hl * hl + hw * hw).sqrt();
+    // Only the part of the bounding square that lies on the grid is visited.
+    let (c0, r0) = grid.world_to_cell(o.pose.x - rad, o.pose.y - rad);
+    let (c1, r1) = grid.world_to_cell(o.pose.x + rad, o.pose.y + rad);
+    let (c0, r0) = (c0.max(0), r0.max(0));
+    let (c1, r1) = (c1.min(grid.width() as i64 - 1), r1.min(grid.height() as i64 - 1));
+    for row in r0..=r1 {
+        for col in c0..=c1 {
+            let (x, y) = grid.cell_center(col, row);
+            let (dx, dy) = (x - o.pose.x, y - o.pose.y);
+            let u = dx * yaw.cos() + dy * yaw.sin();
+            let v = -dx * yaw.sin() + dy * yaw.cos();
+            if u.abs() <= hl && v.abs() <= hw && grid.contains(col, row) {
+                grid.set(col as usize, row as usize, c);
+            }
+        }
+    }
+}
+
+/// Label free cells with ground-truth rooms: polygon rooms by containment, seeded rooms by flood
+/// fill from the seed that does not cross door openings (rasterised as barriers for labelling).
+fn label_rooms(walls: &OccupancyGrid, env: &Environment) -> Result<Vec<Option<usize>>, SimError> {
+    let mut barrier = walls.clone();
+    for d in &env.doors {
+        rasterise_door(&mut barrier, d, Cell::Occupied);
+    }
+    let mut labels: Vec<Option<usize>> = vec![None; walls.width() * walls.height()];
+    for (i, room) in env.rooms.iter().enumerate() {
+        if let Some(poly) = &room.polygon {
+            for row in 0..walls.height() {
+                for col in 0..walls.width() {
+                    let (x, y) = walls.cell_center(col as i64, row as i64);
+                    if walls.get(col, row) == Cell::Free && point_in_polygon(x, y, poly) {
+                        labels[walls.index(col, row)] = Some(i);
+                    }
+                }
+            }
+        } else if let Some(seed) = room.seed {
+            let (c, r) = walls.world_to_cell(seed.x, seed.y);
+            if !walls.contains(c, r) || barrier.get_i(c, r) != Cell::Free {
+                return Err(SimError::Invalid {
+                    field: format!("rooms[{i}].seed"),
+                    message: format!(
+                        "({}, {}) is not in free space; expected a point inside room `{}`",
+                        seed.x, seed.y, room.name
+                    ),
+                });
+            }
+            let mut q = VecDeque::from([(c, r)]);
+            while let Some((c, r)) = q.pop_front() {
+                if !barrier.contains(c, r) || barrier.get_i(c, r) != Cell::Free {
+                    continue;
+                }
+                let k = walls.index(c as usize, r as usize);
+                if labels[k].is_some() {
+                    continue;
+                }
+                labels[k] = Some(i);
+                q.extend([(c + 1, r), (c - 1, r), (c, r + 1), (c, r - 1)]);
+            }
+        } else {
+            return Err(SimError::Invalid {
+                field: format!("rooms[{i}]"),
+                message: format!(
+                    "room `{}` has neither `seed` nor `polygon`; expected one of them",
+                    room.name
+                ),
+            });
+        }
+    }
+    // Door cells belong to the room on either side; give them to the nearest labelled neighbour.
+    for d in &env.doors {
+        for (col, row) in door_cells(walls, d) {
+            let k = walls.index(col, row);
+            if walls.get(col, row) != Cell::Free || labels[k].is_some() {
+                continue;
+            }
+            'search: for rad in 1..6i64 {
+                for (dc, dr) in [(rad, 0), (-rad, 0), (0, rad), (0, -rad)] {
+                    let (cc, rr) = (col as i64 + dc, row as i64 + dr);
+                    if walls.contains(cc, rr) {
+                        if let Some(l) = labels[walls.index(cc as usize, rr as usize)] {
+                            labels[k] = Some(l);
+                            break 'search;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Ok(labels)
+}
+
+fn point_in_polygon(x: f64, y: f64, poly: &[avs_format::environment::Point]) -> bool {
+    let mut inside = false;
+    let n = poly.len();
+    let mut j = n.wrapping_sub(1);
+    for i in 0..n {
+        let (pi, pj) = (poly[i], poly[j]);
+        if (pi.y > y) != (pj.y > y) && x < (pj.x - pi.x) * (y - pi.y) / (pj.y - pi.y) + pi.x {
+            inside = !inside;
+        }
+        j = i;
+    }
+    inside
 }

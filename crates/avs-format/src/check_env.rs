@@ -1,0 +1,623 @@
+//! Checks of an environment that need no map: names and references, numbers and ranges, and
+//! agreement with a knowledge file.
+//!
+//! What is checked:
+//! - every number is finite (YAML allows `.nan` and `.inf`);
+//! - sizes, widths, resolution, radius, speed, ranges are positive; occupancy thresholds are
+//!   probabilities with `free_thresh ≤ occupied_thresh`; angle limits are ordered;
+//! - room names, door names and object ids are unique (each among its own kind);
+//! - an object's `room`, a door's `rooms`, an object's `on` / `in` name things that exist;
+//!   an object is not `on` and `in` at once, not on/in itself, not in a cycle, and the
+//!   supporting object is a landmark in the same room whose (yawed) footprint, plus 5 cm, holds
+//!   the object's position;
+//! - with a knowledge file: room categories and object classes are ones it names, and objects
+//!   with role `landmark` have a landmark class.
+//!
+//! The geometric checks (map loads, things inside the map and not inside walls) need the grid
+//! and live in `avs-sim` (`avs_sim::check`).
+
+use crate::diag::Diagnostic;
+use crate::environment::{Environment, MapSource, ObjectRole, Point, Pose};
+use crate::knowledge::Knowledge;
+use std::collections::{HashMap, HashSet};
+
+/// Collects diagnostics for one file.
+struct Report<'a> {
+    file: &'a str,
+    out: Vec<Diagnostic>,
+}
+
+impl Report<'_> {
+    fn push(&mut self, path: String, message: String, expected: impl Into<String>) {
+        self.out
+            .push(Diagnostic::new(self.file, path, message, expected));
+    }
+
+    fn finite(&mut self, path: String, v: f64) -> bool {
+        if v.is_finite() {
+            true
+        } else {
+            self.push(
+                path,
+                format!("{v} is not a finite number"),
+                "a finite number",
+            );
+            false
+        }
+    }
+
+    fn positive(&mut self, path: String, v: f64, unit: &str) {
+        if self.finite(path.clone(), v) && v <= 0.0 {
+            self.push(
+                path,
+                format!("{v} is not positive"),
+                format!("a positive number of {unit}"),
+            );
+        }
+    }
+
+    fn probability(&mut self, path: String, v: f64) {
+        if self.finite(path.clone(), v) && !(0.0..=1.0).contains(&v) {
+            self.push(
+                path,
+                format!("{v} is outside [0, 1]"),
+                "a probability between 0 and 1",
+            );
+        }
+    }
+
+    fn point(&mut self, path: &str, p: &Point) {
+        self.finite(format!("{path}.x"), p.x);
+        self.finite(format!("{path}.y"), p.y);
+    }
+
+    fn pose(&mut self, path: &str, p: &Pose) {
+        self.finite(format!("{path}.x"), p.x);
+        self.finite(format!("{path}.y"), p.y);
+        self.finite(format!("{path}.z"), p.z);
+        self.finite(format!("{path}.yaw_deg"), p.yaw_deg);
+    }
+
+    fn ordered(&mut self, path: &str, v: [f64; 2], lo: f64, hi: f64) {
+        let a = self.finite(format!("{path}[0]"), v[0]);
+        let b = self.finite(format!("{path}[1]"), v[1]);
+        if a && b && !(lo <= v[0] && v[0] <= v[1] && v[1] <= hi) {
+            self.push(
+                path.to_string(),
+                format!(
+                    "[{}, {}] is not an ordered range within [{lo}, {hi}]",
+                    v[0], v[1]
+                ),
+                format!("[min, max] with {lo} ≤ min ≤ max ≤ {hi}"),
+            );
+        }
+    }
+}
+
+/// Index of each name, reporting duplicates (`what` names the kind of thing).
+fn unique<'e>(
+    r: &mut Report,
+    names: impl Iterator<Item = (String, &'e str)>,
+    what: &str,
+) -> HashMap<&'e str, usize> {
+    let mut seen: HashMap<&str, usize> = HashMap::new();
+    for (i, (path, name)) in names.enumerate() {
+        if name.is_empty() {
+            r.push(
+                path,
+                format!("empty {what}"),
+                format!("a non-empty, unique {what}"),
+            );
+            continue;
+        }
+        if let Some(first) = seen.get(name) {
+            r.push(
+                path,
+                format!("duplicate {what} `{name}` (also item {first})"),
+                format!("a unique {what}"),
+            );
+        } else {
+            seen.insert(name, i);
+        }
+    }
+    seen
+}
+
+/// A sorted, comma-separated list of names for "expected one of" messages (at most 12 shown).
+fn one_of<'a>(names: impl Iterator<Item = &'a str>) -> String {
+    let mut v: Vec<&str> = names.collect();
+    v.sort_unstable();
+    v.dedup();
+    if v.is_empty() {
+        return "(none defined)".to_string();
+    }
+    let more = v.len().saturating_sub(12);
+    let mut s = v
+        .iter()
+        .take(12)
+        .map(|n| format!("`{n}`"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    if more > 0 {
+        s.push_str(&format!(" and {more} more"));
+    }
+    s
+}
+
+/// Slack around a landmark's footprint for objects standing on or lying in it, metres.
+const FOOTPRINT_SLACK: f64 = 0.05;
+
+/// Whether a point lies over a landmark's (yawed) footprint, with [`FOOTPRINT_SLACK`]. Points or
+/// landmarks with non-finite numbers pass (they are reported elsewhere).
+fn over_footprint(p: &Pose, base: &crate::environment::Object) -> bool {
+    let (dx, dy) = (p.x - base.pose.x, p.y - base.pose.y);
+    let yaw = base.pose.yaw_deg.to_radians();
+    let u = dx * yaw.cos() + dy * yaw.sin();
+    let v = -dx * yaw.sin() + dy * yaw.cos();
+    let inside = u.abs() <= base.size[0].abs() / 2.0 + FOOTPRINT_SLACK
+        && v.abs() <= base.size[1].abs() / 2.0 + FOOTPRINT_SLACK;
+    inside || !(u.is_finite() && v.is_finite() && base.size.iter().all(|s| s.is_finite()))
+}
+
+/// Check everything about `env` that does not need the occupancy grid; `knowledge`, when given,
+/// supplies the room categories and object classes that may be used. Diagnostics carry field
+/// paths but no positions (see [`crate::positions::locate`]).
+pub fn check_environment(
+    file: &str,
+    env: &Environment,
+    knowledge: Option<&Knowledge>,
+) -> Vec<Diagnostic> {
+    let mut r = Report {
+        file,
+        out: Vec::new(),
+    };
+    if env.name.trim().is_empty() {
+        r.push(
+            "name".into(),
+            "empty name".into(),
+            "a short, non-empty name",
+        );
+    }
+
+    // Map.
+    match &env.map {
+        MapSource::Ros(m) => {
+            if m.image.trim().is_empty() {
+                r.push(
+                    "map.image".into(),
+                    "empty image path".into(),
+                    "a PGM or PNG file, relative to this file",
+                );
+            }
+            r.positive("map.resolution".into(), m.resolution, "metres per pixel");
+            for (i, v) in m.origin.iter().enumerate() {
+                r.finite(format!("map.origin[{i}]"), *v);
+            }
+            if m.negate > 1 {
+                r.push(
+                    "map.negate".into(),
+                    format!("{} is not 0 or 1", m.negate),
+                    "0 (white is free) or 1 (white is occupied)",
+                );
+            }
+            r.probability("map.occupied_thresh".into(), m.occupied_thresh);
+            r.probability("map.free_thresh".into(), m.free_thresh);
+            if m.free_thresh > m.occupied_thresh {
+                r.push(
+                    "map.free_thresh".into(),
+                    format!(
+                        "free_thresh {} is above occupied_thresh {}",
+                        m.free_thresh, m.occupied_thresh
+                    ),
+                    "free_thresh ≤ occupied_thresh",
+                );
+            }
+        }
+        MapSource::Ascii(m) => {
+            if m.ascii.trim().is_empty() {
+                r.push(
+                    "map.ascii".into(),
+                    "empty ASCII map".into(),
+                    "rows of `#` (occupied), `.` (free), `?` (unknown)",
+                );
+            }
+            r.positive("map.resolution".into(), m.resolution, "metres per cell");
+            for (i, v) in m.origin.iter().enumerate() {
+                r.finite(format!("map.origin[{i}]"), *v);
+            }
+        }
+    }
+
+    // Names for "one of …" hints and knowledge look-ups, built once (files can be large).
+    let categories: HashSet<&str> = knowledge
+        .map(|k| k.room_categories.iter().map(String::as_str).collect())
+        .unwrap_or_default();
+    let classes: HashMap<&str, &crate::knowledge::ObjectClass> = knowledge
+        .map(|k| {
+            k.object_classes
+                .iter()
+                .map(|c| (c.name.as_str(), c))
+                .collect()
+        })
+        .unwrap_or_default();
+    let category_list = one_of(categories.iter().copied());
+    let class_list = one_of(classes.keys().copied());
+    let object_list = one_of(env.objects.iter().map(|x| x.id.as_str()));
+
+    // Rooms.
+    let rooms = unique(
+        &mut r,
+        env.rooms
+            .iter()
+            .enumerate()
+            .map(|(i, x)| (format!("rooms[{i}].name"), x.name.as_str())),
+        "room name",
+    );
+    for (i, room) in env.rooms.iter().enumerate() {
+        if let Some(s) = &room.seed {
+            r.point(&format!("rooms[{i}].seed"), s);
+        }
+        if let Some(poly) = &room.polygon {
+            if poly.len() < 3 {
+                r.push(
+                    format!("rooms[{i}].polygon"),
+                    format!("{} points", poly.len()),
+                    "a polygon of at least 3 points",
+                );
+            }
+            for (j, p) in poly.iter().enumerate() {
+                r.point(&format!("rooms[{i}].polygon[{j}]"), p);
+            }
+        }
+        if room.seed.is_none() && room.polygon.is_none() {
+            r.push(
+                format!("rooms[{i}]"),
+                format!("room `{}` has neither `seed` nor `polygon`", room.name),
+                "a `seed` point inside the room or its outline as a `polygon`",
+            );
+        }
+        if knowledge.is_some() && !categories.contains(room.category.as_str()) {
+            r.push(
+                format!("rooms[{i}].category"),
+                format!("unknown room category `{}`", room.category),
+                format!("one of the knowledge file's room_categories: {category_list}"),
+            );
+        }
+    }
+    let room_list = one_of(env.rooms.iter().map(|x| x.name.as_str()));
+
+    // Doors.
+    unique(
+        &mut r,
+        env.doors
+            .iter()
+            .enumerate()
+            .map(|(i, x)| (format!("doors[{i}].name"), x.name.as_str())),
+        "door name",
+    );
+    for (i, d) in env.doors.iter().enumerate() {
+        r.pose(&format!("doors[{i}].pose"), &d.pose);
+        r.positive(format!("doors[{i}].width"), d.width, "metres");
+        if !(d.rooms.is_empty() || d.rooms.len() == 2) {
+            r.push(
+                format!("doors[{i}].rooms"),
+                format!("{} rooms", d.rooms.len()),
+                "the two rooms the door joins, or none",
+            );
+        }
+        for (j, name) in d.rooms.iter().enumerate() {
+            if !rooms.contains_key(name.as_str()) {
+                r.push(
+                    format!("doors[{i}].rooms[{j}]"),
+                    format!("unknown room `{name}`"),
+                    format!("one of the rooms: {room_list}"),
+                );
+            }
+        }
+        if d.rooms.len() == 2 && d.rooms[0] == d.rooms[1] {
+            r.push(
+                format!("doors[{i}].rooms"),
+                format!("the door joins room `{}` to itself", d.rooms[0]),
+                "two different rooms",
+            );
+        }
+    }
+
+    // Objects.
+    let ids = unique(
+        &mut r,
+        env.objects
+            .iter()
+            .enumerate()
+            .map(|(i, x)| (format!("objects[{i}].id"), x.id.as_str())),
+        "object id",
+    );
+    for (i, o) in env.objects.iter().enumerate() {
+        let at = format!("objects[{i}]");
+        r.pose(&format!("{at}.pose"), &o.pose);
+        for (j, s) in o.size.iter().enumerate() {
+            r.positive(format!("{at}.size[{j}]"), *s, "metres");
+        }
+        if !rooms.contains_key(o.room.as_str()) {
+            r.push(
+                format!("{at}.room"),
+                format!("unknown room `{}`", o.room),
+                format!("one of the rooms: {room_list}"),
+            );
+        }
+        if knowledge.is_some() {
+            if let Some(c) = classes.get(o.class.as_str()) {
+                if o.role == ObjectRole::Landmark && !c.landmark {
+                    r.push(
+                        format!("{at}.role"),
+                        format!(
+                            "object `{}` is a landmark but class `{}` is not a landmark class",
+                            o.id, o.class
+                        ),
+                        "role `target` or `distractor`, or `landmark: true` on the class in the knowledge file",
+                    );
+                }
+            } else {
+                r.push(
+                    format!("{at}.class"),
+                    format!("unknown object class `{}`", o.class),
+                    format!("one of the knowledge file's object_classes: {}", class_list),
+                );
+            }
+        }
+        if o.on.is_some() && o.r#in.is_some() {
+            r.push(
+                format!("{at}.in"),
+                "the object is both `on` and `in` another object".into(),
+                "at most one of `on` and `in`",
+            );
+        }
+        for (field, support) in [("on", &o.on), ("in", &o.r#in)] {
+            let Some(s) = support else { continue };
+            let path = format!("{at}.{field}");
+            match ids.get(s.as_str()) {
+                None => r.push(
+                    path,
+                    format!("unknown object `{s}`"),
+                    format!("the id of another object: {}", object_list),
+                ),
+                Some(&j) if j == i => r.push(
+                    path,
+                    format!("the object is {field} itself"),
+                    "the id of another object (a landmark)",
+                ),
+                Some(&j) => {
+                    let base = &env.objects[j];
+                    if base.role != ObjectRole::Landmark {
+                        r.push(
+                            path.clone(),
+                            format!("object `{s}` is not a landmark"),
+                            "the id of a landmark (role: landmark) to stand on or lie in",
+                        );
+                    }
+                    if base.room != o.room && rooms.contains_key(o.room.as_str()) {
+                        r.push(
+                            path.clone(),
+                            format!(
+                                "object `{s}` is in room `{}` but this object is in `{}`",
+                                base.room, o.room
+                            ),
+                            "a landmark in the same room",
+                        );
+                    } else if !over_footprint(&o.pose, base) {
+                        r.push(
+                            format!("{at}.pose"),
+                            format!(
+                                "({}, {}) is not over the footprint of `{s}` (centre ({}, {}), {} m × {} m)",
+                                o.pose.x, o.pose.y, base.pose.x, base.pose.y, base.size[0], base.size[1]
+                            ),
+                            format!("a position on the top of / inside `{s}`"),
+                        );
+                    }
+                }
+            }
+        }
+    }
+    // Support cycles (a on b, b on a). Each object rests on at most one other, so one walk per
+    // chain with three-state marks finds every cycle in linear time.
+    let next: Vec<Option<usize>> = env
+        .objects
+        .iter()
+        .map(|o| {
+            o.on.as_ref()
+                .or(o.r#in.as_ref())
+                .and_then(|s| ids.get(s.as_str()).copied())
+        })
+        .collect();
+    let (new, walking, done) = (0u8, 1u8, 2u8);
+    let mut state = vec![new; env.objects.len()];
+    let mut in_cycle = Vec::new();
+    for start in 0..env.objects.len() {
+        let mut walk = Vec::new();
+        let mut cur = Some(start);
+        while let Some(i) = cur {
+            if state[i] == done {
+                break;
+            }
+            if state[i] == walking {
+                let from = walk.iter().position(|&k| k == i).unwrap_or(walk.len());
+                // A cycle of one is "on itself", reported above.
+                if walk.len() - from > 1 {
+                    in_cycle.extend_from_slice(&walk[from..]);
+                }
+                break;
+            }
+            state[i] = walking;
+            walk.push(i);
+            cur = next[i];
+        }
+        for k in walk {
+            state[k] = done;
+        }
+    }
+    in_cycle.sort_unstable();
+    for i in in_cycle {
+        let o = &env.objects[i];
+        r.push(
+            format!("objects[{i}].{}", if o.on.is_some() { "on" } else { "in" }),
+            format!("object `{}` rests on itself through a cycle", o.id),
+            "a chain of `on`/`in` that ends at an object on the floor",
+        );
+    }
+
+    // Robot and sensors.
+    r.pose("robot.start", &env.robot.start);
+    r.positive("robot.radius".into(), env.robot.radius, "metres");
+    r.positive("robot.speed".into(), env.robot.speed, "metres per second");
+    r.positive("laser.range".into(), env.laser.range, "metres");
+    if r.finite("laser.fov_deg".into(), env.laser.fov_deg)
+        && !(env.laser.fov_deg > 0.0 && env.laser.fov_deg <= 360.0)
+    {
+        r.push(
+            "laser.fov_deg".into(),
+            format!("{} is outside (0, 360]", env.laser.fov_deg),
+            "a field of view in degrees, above 0 and at most 360",
+        );
+    }
+    if env.laser.beams == 0 || env.laser.beams > 100_000 {
+        r.push(
+            "laser.beams".into(),
+            format!("{} beams", env.laser.beams),
+            "between 1 and 100000 beams",
+        );
+    }
+    let c = &env.camera;
+    for (name, v) in [("hfov_deg", c.hfov_deg), ("vfov_deg", c.vfov_deg)] {
+        if r.finite(format!("camera.{name}"), v) && !(v > 0.0 && v < 180.0) {
+            r.push(
+                format!("camera.{name}"),
+                format!("{v} is outside (0, 180)"),
+                "a field of view in degrees, above 0 and below 180",
+            );
+        }
+    }
+    r.ordered("camera.pan_deg", c.pan_deg, -360.0, 360.0);
+    r.ordered("camera.tilt_deg", c.tilt_deg, -90.0, 90.0);
+    if r.finite("camera.max_zoom".into(), c.max_zoom) && c.max_zoom < 1.0 {
+        r.push(
+            "camera.max_zoom".into(),
+            format!("{} is below 1", c.max_zoom),
+            "a zoom factor of at least 1",
+        );
+    }
+    if r.finite("camera.height".into(), c.height) && c.height < 0.0 {
+        r.push(
+            "camera.height".into(),
+            format!("{} is negative", c.height),
+            "a height above the floor in metres (≥ 0)",
+        );
+    }
+    r.out
+}
+
+/// Parse an environment's text, reporting a map that fits neither form with the error of the
+/// form it was meant to be (an `image:` map is read as a ROS map, otherwise as an ASCII map).
+pub fn load_environment(file: &str, text: &str) -> Result<Environment, crate::LoadError> {
+    let err = match crate::load_yaml_str::<Environment>(file, text) {
+        Ok(env) => return Ok(env),
+        Err(e) => e,
+    };
+    if err.diagnostics.len() == 1
+        && err.diagnostics[0].path == "map"
+        && err.diagnostics[0].message == crate::load::UNTAGGED_MISMATCH
+    {
+        // The text passed the bounds walk; re-read only the map to say what is wrong inside it.
+        #[derive(serde::Deserialize)]
+        struct MapOnly {
+            map: serde_yaml::Value,
+        }
+        if let Ok(m) = serde_yaml::from_str::<MapOnly>(text) {
+            let sub = serde_yaml::to_string(&m.map).unwrap_or_default();
+            let is_ros = m.map.get("image").is_some();
+            let inner = if is_ros {
+                crate::load_yaml_str::<crate::environment::RosMap>(file, &sub).err()
+            } else {
+                crate::load_yaml_str::<crate::environment::AsciiMap>(file, &sub).err()
+            };
+            if let Some(inner) = inner {
+                let mut ds: Vec<Diagnostic> = inner
+                    .diagnostics
+                    .into_iter()
+                    .map(|mut d| {
+                        d.path = if d.path.is_empty() {
+                            "map".into()
+                        } else {
+                            format!("map.{}", d.path)
+                        };
+                        d.line = None;
+                        d.column = None;
+                        if !is_ros && d.message.contains("missing field `ascii`") {
+                            d.expected =
+                                "a ROS map (`image:`, `resolution:`, …) or an ASCII map (`ascii:`, `resolution:`)".into();
+                        }
+                        d
+                    })
+                    .collect();
+                crate::positions::locate(&mut ds, text);
+                return Err(crate::LoadError { diagnostics: ds });
+            }
+        }
+    }
+    Err(err)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn env(extra: &str) -> Environment {
+        let text = format!(
+            "kind: environment\nname: t\nmap: {{ ascii: \"###\\n#.#\\n###\\n\", resolution: 1.0 }}\nrobot: {{ start: {{ x: 1.5, y: 1.5 }} }}\n{extra}"
+        );
+        crate::load_yaml_str("t.yaml", &text).unwrap()
+    }
+
+    #[test]
+    fn a_minimal_environment_has_no_problems() {
+        assert_eq!(check_environment("t.yaml", &env(""), None), vec![]);
+    }
+
+    #[test]
+    fn unknown_room_and_support_are_named_with_their_paths() {
+        let e = env("rooms: [{name: a, category: office, seed: {x: 1.5, y: 1.5}}]\nobjects:\n  - {id: t, class: table, role: landmark, pose: {x: 1, y: 1}, size: [1, 1, 1], room: b}\n  - {id: m, class: mug, role: target, pose: {x: 1, y: 1}, size: [1, 1, 1], room: a, on: nothing}\n");
+        let d = check_environment("t.yaml", &e, None);
+        let paths: Vec<&str> = d.iter().map(|d| d.path.as_str()).collect();
+        assert!(paths.contains(&"objects[0].room"), "{d:?}");
+        assert!(paths.contains(&"objects[1].on"), "{d:?}");
+    }
+
+    #[test]
+    fn support_cycles_are_found_and_long_chains_are_not_cycles() {
+        let obj = |id: &str, on: &str| {
+            format!("  - {{id: {id}, class: table, role: landmark, pose: {{x: 1, y: 1}}, size: [1, 1, 1], room: a, on: {on}}}\n")
+        };
+        let rooms = "rooms: [{name: a, category: office, seed: {x: 1.5, y: 1.5}}]\nobjects:\n";
+        let mut chain = String::from(rooms);
+        chain.push_str("  - {id: o0, class: table, role: landmark, pose: {x: 1, y: 1}, size: [1, 1, 1], room: a}\n");
+        for i in 1..2000 {
+            chain.push_str(&obj(&format!("o{i}"), &format!("o{}", i - 1)));
+        }
+        assert_eq!(check_environment("t.yaml", &env(&chain), None), vec![]);
+        let cycle = format!("{rooms}{}{}{}", obj("x", "y"), obj("y", "z"), obj("z", "x"));
+        let d = check_environment("t.yaml", &env(&cycle), None);
+        let paths: Vec<&str> = d.iter().map(|d| d.path.as_str()).collect();
+        assert_eq!(paths, ["objects[0].on", "objects[1].on", "objects[2].on"]);
+    }
+
+    #[test]
+    fn nan_and_negative_sizes_are_reported() {
+        let e = env("rooms: [{name: a, category: office, seed: {x: 1.5, y: 1.5}}]\nobjects:\n  - {id: t, class: table, role: landmark, pose: {x: .nan, y: 1}, size: [-1, 1, 1], room: a}\n");
+        let d = check_environment("t.yaml", &e, None);
+        assert!(d
+            .iter()
+            .any(|d| d.path == "objects[0].pose.x" && d.message.contains("finite")));
+        assert!(d
+            .iter()
+            .any(|d| d.path == "objects[0].size[0]" && d.message.contains("positive")));
+    }
+}

@@ -1,0 +1,418 @@
+//! Navigation on the grid: obstacle clearance, collision-free shortest paths (A*), and travel
+//! distance fields (Dijkstra) for costing many goals at once.
+//!
+//! Moves are 8-connected (diagonals cost √2 cells); a cell is traversable when it is free and its
+//! clearance — Euclidean distance to the nearest blocking cell — is at least the robot's radius.
+//! Blocking cells are the occupied ones, and the unknown ones too unless the caller allows them.
+
+use crate::grid::{Cell, OccupancyGrid};
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+const SQRT2: f64 = std::f64::consts::SQRT_2;
+const NEIGHBOURS: [(i64, i64, f64); 8] = [
+    (1, 0, 1.0),
+    (-1, 0, 1.0),
+    (0, 1, 1.0),
+    (0, -1, 1.0),
+    (1, 1, SQRT2),
+    (1, -1, SQRT2),
+    (-1, 1, SQRT2),
+    (-1, -1, SQRT2),
+];
+
+/// Which cells a robot of a given radius may occupy.
+#[derive(Debug, Clone)]
+pub struct Traversability {
+    width: usize,
+    height: usize,
+    resolution: f64,
+    origin: [f64; 2],
+    ok: Vec<bool>,
+}
+
+/// Squared Euclidean distance transform of a boolean mask, in cells² (Felzenszwalb &
+/// Huttenlocher 2012, "Distance transforms of sampled functions", the 1-D lower-envelope pass
+/// applied to columns then rows). `blocked[i]` cells have distance 0.
+pub fn squared_distance_transform(blocked: &[bool], width: usize, height: usize) -> Vec<f64> {
+    let inf = 1e20;
+    let mut d: Vec<f64> = blocked.iter().map(|&b| if b { 0.0 } else { inf }).collect();
+    let mut f = vec![0.0; width.max(height)];
+    let mut out = vec![0.0; width.max(height)];
+    let mut v = vec![0usize; width.max(height)];
+    let mut z = vec![0.0; width.max(height) + 1];
+    // columns
+    for col in 0..width {
+        for row in 0..height {
+            f[row] = d[row * width + col];
+        }
+        edt_1d(&f[..height], &mut out[..height], &mut v, &mut z);
+        for row in 0..height {
+            d[row * width + col] = out[row];
+        }
+    }
+    // rows
+    for row in 0..height {
+        f[..width].copy_from_slice(&d[row * width..(row + 1) * width]);
+        edt_1d(&f[..width], &mut out[..width], &mut v, &mut z);
+        d[row * width..(row + 1) * width].copy_from_slice(&out[..width]);
+    }
+    d
+}
+
+fn edt_1d(f: &[f64], d: &mut [f64], v: &mut [usize], z: &mut [f64]) {
+    let n = f.len();
+    if n == 0 {
+        return;
+    }
+    let mut k = 0usize;
+    v[0] = 0;
+    z[0] = f64::NEG_INFINITY;
+    z[1] = f64::INFINITY;
+    for q in 1..n {
+        loop {
+            let p = v[k];
+            let s =
+                ((f[q] + (q * q) as f64) - (f[p] + (p * p) as f64)) / (2.0 * (q as f64 - p as f64));
+            if s <= z[k] && k > 0 {
+                k -= 1;
+                continue;
+            }
+            if s <= z[k] {
+                // k == 0: replace the first parabola.
+                v[0] = q;
+                z[0] = f64::NEG_INFINITY;
+                z[1] = f64::INFINITY;
+                break;
+            }
+            k += 1;
+            v[k] = q;
+            z[k] = s;
+            z[k + 1] = f64::INFINITY;
+            break;
+        }
+    }
+    k = 0;
+    for (q, dq) in d.iter_mut().enumerate() {
+        while z[k + 1] < q as f64 {
+            k += 1;
+        }
+        let p = v[k];
+        *dq = (q as f64 - p as f64).powi(2) + f[p];
+    }
+}
+
+impl Traversability {
+    /// Traversable cells for a robot of `radius` metres; unknown cells block unless
+    /// `unknown_is_free`.
+    pub fn new(grid: &OccupancyGrid, radius: f64, unknown_is_free: bool) -> Self {
+        let (w, h) = (grid.width(), grid.height());
+        let blocked: Vec<bool> = grid
+            .cells()
+            .iter()
+            .map(|&c| c == Cell::Occupied || (c == Cell::Unknown && !unknown_is_free))
+            .collect();
+        let d2 = squared_distance_transform(&blocked, w, h);
+        // The transform measures centre to centre; the nearest obstacle's edge is half a cell
+        // closer. A robot of radius r fits where that clearance is at least r.
+        let r_cells = radius.max(0.0) / grid.resolution();
+        let ok = blocked
+            .iter()
+            .zip(&d2)
+            .map(|(&b, &d)| !b && d.sqrt() - 0.5 >= r_cells)
+            .collect();
+        Self {
+            width: w,
+            height: h,
+            resolution: grid.resolution(),
+            origin: grid.origin(),
+            ok,
+        }
+    }
+
+    /// Whether the robot may stand in cell `(col, row)`.
+    pub fn ok(&self, col: i64, row: i64) -> bool {
+        col >= 0
+            && row >= 0
+            && (col as usize) < self.width
+            && (row as usize) < self.height
+            && self.ok[row as usize * self.width + col as usize]
+    }
+
+    /// The traversable cell nearest to cell `(col, row)` within `max_cells` (Chebyshev rings).
+    pub fn nearest_ok(&self, col: i64, row: i64, max_cells: i64) -> Option<(i64, i64)> {
+        if self.ok(col, row) {
+            return Some((col, row));
+        }
+        let mut best: Option<((i64, i64), i64)> = None;
+        for ring in 1..=max_cells {
+            for dc in -ring..=ring {
+                for dr in -ring..=ring {
+                    if dc.abs() != ring && dr.abs() != ring {
+                        continue;
+                    }
+                    if self.ok(col + dc, row + dr) {
+                        let d2 = dc * dc + dr * dr;
+                        if best.is_none_or(|(_, b)| d2 < b) {
+                            best = Some(((col + dc, row + dr), d2));
+                        }
+                    }
+                }
+            }
+            if best.is_some() {
+                return best.map(|b| b.0);
+            }
+        }
+        None
+    }
+
+    fn cell_of(&self, p: [f64; 2]) -> (i64, i64) {
+        (
+            ((p[0] - self.origin[0]) / self.resolution).floor() as i64,
+            ((p[1] - self.origin[1]) / self.resolution).floor() as i64,
+        )
+    }
+
+    fn center(&self, c: (i64, i64)) -> [f64; 2] {
+        [
+            self.origin[0] + (c.0 as f64 + 0.5) * self.resolution,
+            self.origin[1] + (c.1 as f64 + 0.5) * self.resolution,
+        ]
+    }
+}
+
+/// A path through the grid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GridPath {
+    /// World points (cell centres) from start to goal.
+    pub points: Vec<[f64; 2]>,
+    /// Length in metres.
+    pub length: f64,
+}
+
+#[derive(PartialEq)]
+struct Entry {
+    f: f64,
+    g: f64,
+    idx: usize,
+}
+impl Eq for Entry {}
+impl Ord for Entry {
+    fn cmp(&self, o: &Self) -> Ordering {
+        // Min-heap on f, then larger g first (deeper), then index: deterministic.
+        o.f.total_cmp(&self.f)
+            .then(self.g.total_cmp(&o.g))
+            .then(o.idx.cmp(&self.idx))
+    }
+}
+impl PartialOrd for Entry {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+
+/// Shortest 8-connected path from `start` to `goal` (world points) by A* with the octile
+/// heuristic. Start and goal snap to the nearest traversable cell within `snap` metres.
+pub fn shortest_path(
+    t: &Traversability,
+    start: [f64; 2],
+    goal: [f64; 2],
+    snap: f64,
+) -> Option<GridPath> {
+    let snap_cells = (snap / t.resolution).ceil() as i64;
+    let s0 = t.cell_of(start);
+    let g0 = t.cell_of(goal);
+    let s = t.nearest_ok(s0.0, s0.1, snap_cells)?;
+    let g = t.nearest_ok(g0.0, g0.1, snap_cells)?;
+    let w = t.width;
+    let idx = |c: (i64, i64)| c.1 as usize * w + c.0 as usize;
+    let octile = |c: (i64, i64)| {
+        let dx = (c.0 - g.0).abs() as f64;
+        let dy = (c.1 - g.1).abs() as f64;
+        dx.max(dy) + (SQRT2 - 1.0) * dx.min(dy)
+    };
+    let n = t.width * t.height;
+    let mut best = vec![f64::INFINITY; n];
+    let mut parent = vec![usize::MAX; n];
+    let mut heap = BinaryHeap::new();
+    best[idx(s)] = 0.0;
+    heap.push(Entry {
+        f: octile(s),
+        g: 0.0,
+        idx: idx(s),
+    });
+    while let Some(Entry { g: gc, idx: i, .. }) = heap.pop() {
+        if gc > best[i] {
+            continue;
+        }
+        let c = ((i % w) as i64, (i / w) as i64);
+        if c == g {
+            let mut cells = vec![i];
+            let mut cur = i;
+            while parent[cur] != usize::MAX {
+                cur = parent[cur];
+                cells.push(cur);
+            }
+            cells.reverse();
+            let points = cells
+                .iter()
+                .map(|&k| t.center(((k % w) as i64, (k / w) as i64)))
+                .collect();
+            return Some(GridPath {
+                points,
+                length: gc * t.resolution,
+            });
+        }
+        for &(dc, dr, cost) in &NEIGHBOURS {
+            let nc = (c.0 + dc, c.1 + dr);
+            if !t.ok(nc.0, nc.1) {
+                continue;
+            }
+            // No corner cutting: both side cells of a diagonal step must be traversable.
+            if dc != 0 && dr != 0 && !(t.ok(c.0 + dc, c.1) && t.ok(c.0, c.1 + dr)) {
+                continue;
+            }
+            let ng = gc + cost;
+            let ni = idx(nc);
+            if ng < best[ni] {
+                best[ni] = ng;
+                parent[ni] = i;
+                heap.push(Entry {
+                    f: ng + octile(nc),
+                    g: ng,
+                    idx: ni,
+                });
+            }
+        }
+    }
+    None
+}
+
+/// Travel distance in metres from `start` to every cell (∞ where unreachable), by Dijkstra with
+/// the same moves as [`shortest_path`].
+pub fn distance_field(t: &Traversability, start: [f64; 2], snap: f64) -> Vec<f64> {
+    let n = t.width * t.height;
+    let mut best = vec![f64::INFINITY; n];
+    let snap_cells = (snap / t.resolution).ceil() as i64;
+    let s0 = t.cell_of(start);
+    let Some(s) = t.nearest_ok(s0.0, s0.1, snap_cells) else {
+        return best;
+    };
+    let w = t.width;
+    let mut heap = BinaryHeap::new();
+    let si = s.1 as usize * w + s.0 as usize;
+    best[si] = 0.0;
+    heap.push(Entry {
+        f: 0.0,
+        g: 0.0,
+        idx: si,
+    });
+    while let Some(Entry { g: gc, idx: i, .. }) = heap.pop() {
+        if gc > best[i] {
+            continue;
+        }
+        let c = ((i % w) as i64, (i / w) as i64);
+        for &(dc, dr, cost) in &NEIGHBOURS {
+            let nc = (c.0 + dc, c.1 + dr);
+            if !t.ok(nc.0, nc.1)
+                || (dc != 0 && dr != 0 && !(t.ok(c.0 + dc, c.1) && t.ok(c.0, c.1 + dr)))
+            {
+                continue;
+            }
+            let ng = gc + cost;
+            let ni = nc.1 as usize * w + nc.0 as usize;
+            if ng < best[ni] {
+                best[ni] = ng;
+                heap.push(Entry {
+                    f: ng,
+                    g: ng,
+                    idx: ni,
+                });
+            }
+        }
+    }
+    for d in &mut best {
+        *d *= t.resolution;
+    }
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn distance_transform_matches_brute_force() {
+        let (w, h) = (13, 9);
+        let blocked: Vec<bool> = (0..w * h).map(|i| (i * 7919) % 11 == 0).collect();
+        let d = squared_distance_transform(&blocked, w, h);
+        for (i, &di) in d.iter().enumerate() {
+            let (c, r) = ((i % w) as i64, (i / w) as i64);
+            let brute = (0..w * h)
+                .filter(|&j| blocked[j])
+                .map(|j| {
+                    let (cj, rj) = ((j % w) as i64, (j / w) as i64);
+                    ((c - cj).pow(2) + (r - rj).pow(2)) as f64
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert_eq!(di, brute, "cell {c},{r}");
+        }
+    }
+
+    #[test]
+    fn path_goes_around_a_wall_and_respects_robot_radius() {
+        let g = OccupancyGrid::from_ascii(
+            "############\n#..........#\n#..........#\n#####.######\n#..........#\n#..........#\n############\n",
+            0.5,
+            [0.0, 0.0],
+        )
+        .unwrap();
+        // The gap is one cell (0.5 m): a robot of radius 0.2 passes, one of radius 0.3 does not.
+        let thin = Traversability::new(&g, 0.2, false);
+        let p =
+            shortest_path(&thin, [0.75, 0.75], [0.75, 2.75], 0.5).expect("path through the gap");
+        assert!(
+            p.length > 2.0 + 2.0,
+            "must detour via the gap, got {}",
+            p.length
+        );
+        let fat = Traversability::new(&g, 0.3, false);
+        assert!(shortest_path(&fat, [0.75, 0.75], [0.75, 2.75], 0.5).is_none());
+    }
+
+    proptest! {
+        #[test]
+        fn astar_length_equals_dijkstra_distance(seed in 0u64..500) {
+            let (w, h) = (20usize, 14usize);
+            let mut text = String::new();
+            for r in 0..h {
+                for c in 0..w {
+                    let border = r == 0 || c == 0 || r == h - 1 || c == w - 1;
+                    let v = (seed.wrapping_mul(6364136223846793005).wrapping_add(((r * w + c) as u64).wrapping_mul(1442695040888963407))) >> 59;
+                    text.push(if border || v < 5 { '#' } else { '.' });
+                }
+                text.push('\n');
+            }
+            let g = OccupancyGrid::from_ascii(&text, 1.0, [0.0, 0.0]).unwrap();
+            let t = Traversability::new(&g, 0.0, false);
+            let start = [1.5, 1.5];
+            let field = distance_field(&t, start, 3.0);
+            for goal in [[18.5, 12.5], [10.5, 7.5], [3.5, 11.5]] {
+                match shortest_path(&t, start, goal, 3.0) {
+                    Some(p) => {
+                        // The goal may have snapped to a nearby traversable cell: compare there.
+                        let end = *p.points.last().unwrap();
+                        let (gc, gr) = g.world_to_cell(end[0], end[1]);
+                        let via_field = field[gr as usize * w + gc as usize];
+                        prop_assert!((p.length - via_field).abs() < 1e-9, "{} vs {via_field}", p.length);
+                    }
+                    None => {
+                        let (gc, gr) = g.world_to_cell(goal[0], goal[1]);
+                        prop_assert!(!t.ok(gc, gr) || field[gr as usize * w + gc as usize].is_infinite());
+                    }
+                }
+            }
+        }
+    }
+}

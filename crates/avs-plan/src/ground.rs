@@ -1,0 +1,492 @@
+//! Grounding a YAML domain and a problem into a SAS+ [`Task`] by relaxed reachability.
+//!
+//! Operators are instantiated by backtracking over their parameters; a condition is checked as
+//! soon as its parameters are bound (static relations and equalities exactly, variable
+//! conditions against the set of *reached* facts). Starting from the initial facts, the loop adds
+//! the effects of every instantiable operator until no new fact is reached (the delete
+//! relaxation's fixpoint), so operators that can never apply are never built. Variables no
+//! operator changes are then removed (their conditions are decided on the initial state).
+//!
+//! Virtual objects get a built-in variable `exists(v)`; an operator parameter marked `new` binds
+//! a virtual object with `exists = no` (and requires the pool's previous object to exist, so
+//! `new-room2` is only used after `new-room1`, which removes symmetric plans), and sets it to
+//! `yes`; any other parameter bound to a virtual object requires `exists = yes`.
+
+use crate::domain::{Cond, Domain, Quantity};
+use crate::problem::{Functions, GroundVar, Instance};
+use crate::task::{Operator, Task, Variable};
+use crate::PlanError;
+use std::collections::{BTreeMap, HashMap};
+
+/// A grounded task with the maps back to the lifted domain.
+#[derive(Debug, Clone)]
+pub struct Grounded {
+    /// The SAS+ task.
+    pub task: Task,
+    /// The resolved problem.
+    pub instance: Instance,
+}
+
+struct VarTable {
+    /// (schema, args) → ground variable id (before pruning).
+    ids: HashMap<GroundVar, usize>,
+    /// virtual object → its `exists` variable id.
+    exists: HashMap<usize, usize>,
+    /// per ground variable: value names.
+    values: Vec<Vec<String>>,
+    names: Vec<String>,
+    init: Vec<u32>,
+    /// per schema: value name → index.
+    value_index: Vec<HashMap<String, u32>>,
+    /// per ground variable: schema (usize::MAX for exists).
+    schema: Vec<usize>,
+}
+
+fn cartesian(lists: &[Vec<usize>]) -> Vec<Vec<usize>> {
+    let mut out = vec![Vec::new()];
+    for l in lists {
+        let mut next = Vec::with_capacity(out.len() * l.len());
+        for prefix in &out {
+            for &x in l {
+                let mut p = prefix.clone();
+                p.push(x);
+                next.push(p);
+            }
+        }
+        out = next;
+    }
+    out
+}
+
+fn eval(
+    q: &Quantity,
+    inst: &Instance,
+    binding: &[usize],
+    f: &dyn Functions,
+    what: &str,
+    op: &str,
+) -> Result<f64, PlanError> {
+    match q {
+        Quantity::Const(v) => Ok(*v),
+        Quantity::Func { name, args } => {
+            let a: Vec<&str> = args.iter().map(|t| inst.name(t, binding)).collect();
+            let call = format!("{name}({})", a.join(", "));
+            let v = f.value(name, &a).ok_or_else(|| PlanError::Function {
+                call: call.clone(),
+                message: format!("not supplied by the caller (needed for the {what} of `{op}`)"),
+            })?;
+            let ok = if what == "probability" {
+                (0.0..=1.0).contains(&v)
+            } else {
+                v.is_finite() && v >= 0.0
+            };
+            if ok {
+                Ok(v)
+            } else {
+                Err(PlanError::Function {
+                    call,
+                    message: format!(
+                        "{what} {v} for `{op}`; expected {}",
+                        if what == "probability" {
+                            "a number in [0, 1]"
+                        } else {
+                            "a finite number ≥ 0"
+                        }
+                    ),
+                })
+            }
+        }
+    }
+}
+
+/// Ground `d` with problem `inst`, evaluating costs and probabilities with `f`.
+pub fn ground(d: &Domain, inst: Instance, f: &dyn Functions) -> Result<Grounded, PlanError> {
+    let objs = &inst.objects;
+    // Ground variables.
+    let mut vt = VarTable {
+        ids: HashMap::new(),
+        exists: HashMap::new(),
+        values: Vec::new(),
+        names: Vec::new(),
+        init: Vec::new(),
+        value_index: Vec::new(),
+        schema: Vec::new(),
+    };
+    for (vi, v) in d.variables.iter().enumerate() {
+        let values = inst.values_of(d, vi);
+        vt.value_index.push(
+            values
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (s.clone(), i as u32))
+                .collect(),
+        );
+        let lists: Vec<Vec<usize>> = v
+            .params
+            .iter()
+            .map(|&t| objs.of_type(t).collect())
+            .collect();
+        for args in cartesian(&lists) {
+            let gv = (vi, args);
+            let init = inst.initial(d, &gv)?;
+            let ii = *vt.value_index[vi].get(&init).ok_or_else(|| {
+                PlanError::Problem(format!(
+                    "initial value `{init}` of {} is not in its domain",
+                    inst.var_name(d, &gv)
+                ))
+            })?;
+            vt.ids.insert(gv.clone(), vt.values.len());
+            vt.names.push(inst.var_name(d, &gv));
+            vt.values.push(values.clone());
+            vt.init.push(ii);
+            vt.schema.push(vi);
+        }
+    }
+    for (o, &is_virtual) in objs.virtual_.iter().enumerate() {
+        if is_virtual {
+            vt.exists.insert(o, vt.values.len());
+            vt.names.push(format!("exists({})", objs.names[o]));
+            vt.values.push(vec!["no".into(), "yes".into()]);
+            vt.init.push(0);
+            vt.schema.push(usize::MAX);
+        }
+    }
+    // Previous virtual object in the same pool.
+    let mut prev_virtual: HashMap<usize, usize> = HashMap::new();
+    for pool in &d.pools {
+        for w in pool.names.windows(2) {
+            prev_virtual.insert(objs.index[&w[1]], objs.index[&w[0]]);
+        }
+    }
+    let mut reached: Vec<Vec<bool>> = vt.values.iter().map(|v| vec![false; v.len()]).collect();
+    for (v, &x) in vt.init.iter().enumerate() {
+        reached[v][x as usize] = true;
+    }
+    // Condition depth per operator.
+    let depth_of = |c: &Cond| -> usize {
+        let terms: Vec<&crate::domain::Term> = match c {
+            Cond::Var { args, value, .. } => args.iter().chain(std::iter::once(value)).collect(),
+            Cond::Rel { args, .. } => args.iter().collect(),
+            Cond::Eq { a, b, .. } => vec![a, b],
+        };
+        terms
+            .iter()
+            .filter_map(|t| match t {
+                crate::domain::Term::Param(i) => Some(i + 1),
+                _ => None,
+            })
+            .max()
+            .unwrap_or(0)
+    };
+    // Instantiate every operator whose static conditions hold (variable conditions only need
+    // a value of the variable's domain); reachability is decided below on the ground operators.
+    let mut found: Vec<(usize, Vec<usize>)> = Vec::new();
+    for (oi, op) in d.operators.iter().enumerate() {
+        let mut at: Vec<Vec<&Cond>> = vec![Vec::new(); op.params.len() + 1];
+        for c in &op.pre {
+            at[depth_of(c)].push(c);
+        }
+        let cands: Vec<Vec<usize>> = op
+            .params
+            .iter()
+            .map(|p| {
+                objs.of_type(p.ty)
+                    .filter(|&o| !p.new || objs.virtual_[o])
+                    .collect()
+            })
+            .collect();
+        let mut bindings = Vec::new();
+        let mut b = Vec::new();
+        let ctx = Enum {
+            inst: &inst,
+            vt: &vt,
+        };
+        ctx.enumerate(op, &at, &cands, &mut b, &mut bindings);
+        found.extend(bindings.into_iter().map(|b| (oi, b)));
+    }
+    // Build operators.
+    let mut ops = Vec::new();
+    for (oi, b) in found {
+        let op = &d.operators[oi];
+        let key = format!("{} {:?}", op.name, b);
+        let mut pre: BTreeMap<usize, u32> = BTreeMap::new();
+        let mut excluded: Vec<(usize, u32)> = Vec::new();
+        let mut ok = true;
+        for c in &op.pre {
+            if let Cond::Var {
+                var,
+                args,
+                value,
+                negated,
+            } = c
+            {
+                let Some(a) = inst.obj_args(args, &b) else {
+                    ok = false;
+                    break;
+                };
+                let v = vt.ids[&(*var, a)];
+                let Some(&x) = vt.value_index[*var].get(inst.name(value, &b)) else {
+                    ok = *negated;
+                    if !ok {
+                        break;
+                    }
+                    continue;
+                };
+                if *negated {
+                    excluded.push((v, x));
+                } else if pre.insert(v, x).is_some_and(|old| old != x) {
+                    ok = false;
+                }
+            }
+        }
+        for (pi, p) in op.params.iter().enumerate() {
+            if let Some(&v) = vt.exists.get(&b[pi]) {
+                let want = if p.new { 0 } else { 1 };
+                if pre.insert(v, want).is_some_and(|old| old != want) {
+                    ok = false;
+                }
+                if p.new {
+                    if let Some(prev) = prev_virtual.get(&b[pi]) {
+                        pre.insert(vt.exists[prev], 1);
+                    }
+                }
+            }
+        }
+        if !ok {
+            continue;
+        }
+        let mut eff: BTreeMap<usize, u32> = BTreeMap::new();
+        for e in &op.eff {
+            let Some(a) = inst.obj_args(&e.args, &b) else {
+                continue;
+            };
+            let v = vt.ids[&(e.var, a)];
+            if let Some(&x) = vt.value_index[e.var].get(inst.name(&e.value, &b)) {
+                eff.insert(v, x);
+            }
+        }
+        for (pi, p) in op.params.iter().enumerate() {
+            if p.new {
+                eff.insert(vt.exists[&b[pi]], 1);
+            }
+        }
+        let cost = eval(&op.cost, &inst, &b, f, "cost", &key)?;
+        let prob = eval(&op.prob, &inst, &b, f, "probability", &key)?;
+        let args: Vec<String> = b.iter().map(|&o| objs.names[o].clone()).collect();
+        let display = op.display_with(&args);
+        if !(cost.is_finite() && cost >= 0.0) {
+            return Err(PlanError::Function {
+                call: display,
+                message: format!("cost {cost}; expected a finite number ≥ 0"),
+            });
+        }
+        if !(0.0..=1.0).contains(&prob) {
+            return Err(PlanError::Function {
+                call: display,
+                message: format!("probability {prob}; expected a number in [0, 1]"),
+            });
+        }
+        if prob == 0.0 {
+            continue;
+        }
+        // Expand `!=` conditions into one operator per remaining reachable value.
+        let mut variants: Vec<BTreeMap<usize, u32>> = vec![pre];
+        for &(v, x) in &excluded {
+            let mut next = Vec::new();
+            for p in variants {
+                match p.get(&v) {
+                    Some(&y) if y == x => {}
+                    Some(_) => next.push(p),
+                    None => {
+                        for y in 0..vt.values[v].len() as u32 {
+                            if y != x {
+                                let mut q = p.clone();
+                                q.insert(v, y);
+                                next.push(q);
+                            }
+                        }
+                    }
+                }
+            }
+            variants = next;
+        }
+        for p in variants {
+            ops.push(Operator {
+                schema: op.name.clone(),
+                args: args.clone(),
+                display: display.clone(),
+                pre: p.into_iter().map(|(v, x)| (v as u32, x)).collect(),
+                eff: eff.iter().map(|(&v, &x)| (v as u32, x)).collect(),
+                cost,
+                prob,
+                assumption: op.assumption,
+            });
+        }
+    }
+    // Relaxed reachability on the ground operators: keep those whose preconditions can all
+    // be reached from the initial state when nothing is ever deleted.
+    let mut live = vec![false; ops.len()];
+    loop {
+        let mut changed = false;
+        for (k, o) in ops.iter().enumerate() {
+            if live[k] || !o.pre.iter().all(|&(v, x)| reached[v as usize][x as usize]) {
+                continue;
+            }
+            live[k] = true;
+            changed = true;
+            for &(v, x) in &o.eff {
+                reached[v as usize][x as usize] = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    let mut keep = live.iter();
+    ops.retain(|_| *keep.next().unwrap_or(&false));
+    // Assumptions first: a phase variable (assuming → acting) orders them.
+    if d.assumptions_first {
+        let v = vt.values.len();
+        vt.names.push("(phase)".into());
+        vt.values.push(vec!["assuming".into(), "acting".into()]);
+        vt.init.push(0);
+        vt.schema.push(usize::MAX);
+        for o in &mut ops {
+            if o.assumption {
+                o.pre.push((v as u32, 0));
+                o.pre.sort_unstable();
+            } else {
+                o.eff.push((v as u32, 1));
+                o.eff.sort_unstable();
+            }
+        }
+    }
+    // Goal.
+    let mut goal: BTreeMap<usize, u32> = BTreeMap::new();
+    let mut impossible = false;
+    for (gv, val) in &inst.goal {
+        let v = vt.ids[gv];
+        let x = vt.value_index[gv.0][val];
+        if goal.insert(v, x).is_some_and(|o| o != x) {
+            impossible = true;
+        }
+    }
+    // Remove variables no operator changes.
+    let mut changed = vec![false; vt.values.len()];
+    for o in &ops {
+        for &(v, _) in &o.eff {
+            changed[v as usize] = true;
+        }
+    }
+    let mut new_id = vec![u32::MAX; vt.values.len()];
+    let mut task = Task::default();
+    for v in 0..vt.values.len() {
+        if changed[v] {
+            new_id[v] = task.variables.len() as u32;
+            task.variables.push(Variable {
+                name: vt.names[v].clone(),
+                values: vt.values[v].clone(),
+            });
+            task.init.push(vt.init[v]);
+        }
+    }
+    for o in ops {
+        if o.pre
+            .iter()
+            .any(|&(v, x)| !changed[v as usize] && vt.init[v as usize] != x)
+        {
+            continue;
+        }
+        let pre = o
+            .pre
+            .iter()
+            .filter(|&&(v, _)| changed[v as usize])
+            .map(|&(v, x)| (new_id[v as usize], x))
+            .collect();
+        let eff = o
+            .eff
+            .iter()
+            .map(|&(v, x)| (new_id[v as usize], x))
+            .collect();
+        task.operators.push(Operator { pre, eff, ..o });
+    }
+    for (&v, &x) in &goal {
+        if changed[v] {
+            task.goal.push((new_id[v], x));
+        } else if vt.init[v] != x {
+            impossible = true;
+        }
+    }
+    if impossible {
+        task.variables.push(Variable {
+            name: "(goal-unreachable)".into(),
+            values: vec!["no".into(), "yes".into()],
+        });
+        task.init.push(0);
+        task.goal = vec![(task.variables.len() as u32 - 1, 1)];
+    }
+    tracing::debug!(%task, "grounded domain `{}`", d.name);
+    Ok(Grounded {
+        task,
+        instance: inst,
+    })
+}
+
+struct Enum<'a> {
+    inst: &'a Instance,
+    vt: &'a VarTable,
+}
+
+impl Enum<'_> {
+    fn holds(&self, c: &Cond, b: &[usize]) -> bool {
+        match c {
+            Cond::Rel { rel, args, negated } => match self.inst.obj_args(args, b) {
+                Some(a) => self.inst.facts.contains(&(*rel, a)) != *negated,
+                None => *negated,
+            },
+            Cond::Eq { a, b: y, negated } => {
+                (self.inst.name(a, b) == self.inst.name(y, b)) != *negated
+            }
+            Cond::Var {
+                var,
+                value,
+                negated,
+                ..
+            } => {
+                // Decided by reachability later; here only: is the value in the domain?
+                *negated || self.vt.value_index[*var].contains_key(self.inst.name(value, b))
+            }
+        }
+    }
+
+    fn enumerate(
+        &self,
+        op: &crate::domain::OpSchema,
+        at: &[Vec<&Cond>],
+        cands: &[Vec<usize>],
+        b: &mut Vec<usize>,
+        out: &mut Vec<Vec<usize>>,
+    ) {
+        let depth = b.len();
+        if depth > 0 {
+            let o = b[depth - 1];
+            if op.params[depth - 1].new && b[..depth - 1].contains(&o) {
+                return;
+            }
+        }
+        for c in &at[depth] {
+            if !self.holds(c, b) {
+                return;
+            }
+        }
+        if depth == op.params.len() {
+            out.push(b.clone());
+            return;
+        }
+        for &o in &cands[depth] {
+            b.push(o);
+            self.enumerate(op, at, cands, b, out);
+            b.pop();
+        }
+    }
+}

@@ -1,0 +1,403 @@
+//! Delete-relaxation heuristics over SAS+ facts `(var, val)`.
+//!
+//! * **LM-cut** (Helmert & Domshlak, *Landmarks, critical paths and abstractions: what's the
+//!   difference anyway?*, ICAPS 2009, §4): repeatedly compute h^max, build the justification graph
+//!   from each operator's h^max-maximal precondition (its *pre-supporter*), take the cut between
+//!   the facts reachable from the state without passing the zero-cost goal zone and that zone,
+//!   add the cut's minimum cost to h and subtract it from the cut's operators. Admissible.
+//! * **h^add / h^FF** (Bonet & Geffner 2001; Hoffmann & Nebel 2001): best supporters by h^add,
+//!   relaxed plan extracted backwards from the goal; the relaxed plan's operators applicable in
+//!   the state are the *preferred operators* (as in lama-first).
+//!
+//! A fact `⊤` (true in every state) is the precondition of operators with none, and an
+//! artificial goal operator of cost 0 achieves the fact `G` from the goal facts, as in the paper.
+
+use crate::task::{Task, Val};
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+const EPS: f64 = 1e-9;
+
+/// Total-order wrapper for non-NaN f64 priorities.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Prio(f64);
+impl Eq for Prio {}
+impl PartialOrd for Prio {
+    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Prio {
+    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&o.0)
+    }
+}
+
+/// The delete relaxation of a task, built once and evaluated per state.
+#[derive(Debug, Clone)]
+pub struct Relaxed {
+    offsets: Vec<usize>,
+    n_facts: usize,
+    top: usize,
+    goal_fact: usize,
+    /// Per relaxed operator: preconditions (fact ids, never empty).
+    pre: Vec<Vec<usize>>,
+    /// Per relaxed operator: effects (fact ids).
+    eff: Vec<Vec<usize>>,
+    /// For each fact, the relaxed operators having it as a precondition.
+    pre_of: Vec<Vec<usize>>,
+    /// For each fact, the relaxed operators adding it.
+    achievers: Vec<Vec<usize>>,
+    /// The goal operator's index (last).
+    goal_op: usize,
+}
+
+impl Relaxed {
+    /// Build the relaxation of `task`.
+    pub fn new(task: &Task) -> Self {
+        let mut offsets = Vec::with_capacity(task.variables.len());
+        let mut n = 0;
+        for v in &task.variables {
+            offsets.push(n);
+            n += v.values.len();
+        }
+        let top = n;
+        let goal_fact = n + 1;
+        let n_facts = n + 2;
+        let mut pre = Vec::with_capacity(task.operators.len() + 1);
+        let mut eff = Vec::with_capacity(task.operators.len() + 1);
+        for o in &task.operators {
+            let mut p: Vec<usize> = o
+                .pre
+                .iter()
+                .map(|&(v, x)| offsets[v as usize] + x as usize)
+                .collect();
+            if p.is_empty() {
+                p.push(top);
+            }
+            pre.push(p);
+            eff.push(
+                o.eff
+                    .iter()
+                    .map(|&(v, x)| offsets[v as usize] + x as usize)
+                    .collect(),
+            );
+        }
+        let mut gp: Vec<usize> = task
+            .goal
+            .iter()
+            .map(|&(v, x)| offsets[v as usize] + x as usize)
+            .collect();
+        if gp.is_empty() {
+            gp.push(top);
+        }
+        pre.push(gp);
+        eff.push(vec![goal_fact]);
+        let goal_op = pre.len() - 1;
+        let mut pre_of = vec![Vec::new(); n_facts];
+        let mut achievers = vec![Vec::new(); n_facts];
+        for (i, p) in pre.iter().enumerate() {
+            for &f in p {
+                pre_of[f].push(i);
+            }
+        }
+        for (i, e) in eff.iter().enumerate() {
+            for &f in e {
+                achievers[f].push(i);
+            }
+        }
+        Relaxed {
+            offsets,
+            n_facts,
+            top,
+            goal_fact,
+            pre,
+            eff,
+            pre_of,
+            achievers,
+            goal_op,
+        }
+    }
+
+    fn state_facts<'a>(&'a self, state: &'a [Val]) -> impl Iterator<Item = usize> + 'a {
+        state
+            .iter()
+            .enumerate()
+            .map(|(v, &x)| self.offsets[v] + x as usize)
+            .chain(std::iter::once(self.top))
+    }
+
+    /// The per-operator cost vector for `task`'s costs (the goal operator costs 0).
+    pub fn costs_of(&self, task: &Task, f: impl Fn(&crate::task::Operator) -> f64) -> Vec<f64> {
+        let mut c: Vec<f64> = task.operators.iter().map(f).collect();
+        c.push(0.0);
+        c
+    }
+
+    /// Generalised Dijkstra for h^max (`sum = false`) or h^add (`sum = true`); fills `value`
+    /// per fact and `op_cost` (the operator's precondition value) per operator, and
+    /// `best` (the precondition with maximal value, or the cheapest achiever for h^add).
+    fn explore(
+        &self,
+        state: &[Val],
+        costs: &[f64],
+        sum: bool,
+        ws: &mut Workspace,
+        stop_at_goal: bool,
+    ) {
+        let nops = self.pre.len();
+        ws.value.clear();
+        ws.value.resize(self.n_facts, f64::INFINITY);
+        ws.op_val.clear();
+        ws.op_val.resize(nops, f64::INFINITY);
+        ws.unsat.clear();
+        ws.unsat.extend(self.pre.iter().map(|p| p.len() as u32));
+        ws.supporter.clear();
+        ws.supporter.resize(nops, usize::MAX);
+        ws.achiever.clear();
+        ws.achiever.resize(self.n_facts, usize::MAX);
+        ws.acc.clear();
+        ws.acc.resize(nops, 0.0);
+        ws.heap.clear();
+        for f in self.state_facts(state) {
+            ws.value[f] = 0.0;
+            ws.heap.push(Reverse((Prio(0.0), f)));
+        }
+        while let Some(Reverse((Prio(d), f))) = ws.heap.pop() {
+            if d > ws.value[f] {
+                continue;
+            }
+            if stop_at_goal && f == self.goal_fact {
+                break;
+            }
+            for &o in &self.pre_of[f] {
+                if sum {
+                    ws.acc[o] += d;
+                }
+                ws.unsat[o] -= 1;
+                if ws.unsat[o] == 0 {
+                    ws.supporter[o] = f;
+                    let base = if sum { ws.acc[o] } else { d };
+                    ws.op_val[o] = base;
+                    let nd = base + costs[o];
+                    for &e in &self.eff[o] {
+                        if nd < ws.value[e] {
+                            ws.value[e] = nd;
+                            ws.achiever[e] = o;
+                            ws.heap.push(Reverse((Prio(nd), e)));
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// h^max value of `state` under `costs` (admissible, weaker than LM-cut, one exploration).
+    pub fn hmax(&self, state: &[Val], costs: &[f64], ws: &mut Workspace) -> Option<f64> {
+        self.explore(state, costs, false, ws, true);
+        let v = ws.value[self.goal_fact];
+        v.is_finite().then_some(v)
+    }
+
+    /// LM-cut value of `state` under `costs` (one per operator, goal operator last), or `None`
+    /// when the goal is unreachable even in the relaxation (a dead end).
+    pub fn lmcut(&self, state: &[Val], costs: &[f64], ws: &mut Workspace) -> Option<f64> {
+        ws.cost.clear();
+        ws.cost.extend_from_slice(costs);
+        let mut h = 0.0;
+        let cost = std::mem::take(&mut ws.cost);
+        self.explore(state, &cost, false, ws, false);
+        ws.cost = cost;
+        loop {
+            let hg = ws.value[self.goal_fact];
+            if hg.is_infinite() {
+                return None;
+            }
+            if hg <= EPS {
+                return Some(h);
+            }
+            // Goal zone: facts from which G is reached by zero-cost justification edges.
+            ws.zone.clear();
+            ws.zone.resize(self.n_facts, 0); // 0 none, 1 goal zone, 2 before-zone
+            ws.stack.clear();
+            ws.zone[self.goal_fact] = 1;
+            ws.stack.push(self.goal_fact);
+            while let Some(g) = ws.stack.pop() {
+                for &o in &self.achievers[g] {
+                    if ws.unsat[o] == 0 && ws.cost[o] <= EPS {
+                        let s = ws.supporter[o];
+                        if ws.zone[s] == 0 {
+                            ws.zone[s] = 1;
+                            ws.stack.push(s);
+                        }
+                    }
+                }
+            }
+            // Operators by pre-supporter (the justification graph's edges).
+            if ws.by_sup.len() < self.n_facts {
+                ws.by_sup.resize(self.n_facts, Vec::new());
+            }
+            for l in ws.by_sup.iter_mut() {
+                l.clear();
+            }
+            for o in 0..self.pre.len() {
+                if ws.unsat[o] == 0 {
+                    let sp = ws.supporter[o];
+                    ws.by_sup[sp].push(o);
+                }
+            }
+            // Before-zone: reachable from the state without entering the goal zone.
+            ws.cut.clear();
+            for f in self.state_facts(state) {
+                if ws.zone[f] == 0 {
+                    ws.zone[f] = 2;
+                    ws.stack.push(f);
+                }
+            }
+            while let Some(f) = ws.stack.pop() {
+                for k in 0..ws.by_sup[f].len() {
+                    let o = ws.by_sup[f][k];
+                    let mut in_cut = false;
+                    for &e in &self.eff[o] {
+                        match ws.zone[e] {
+                            1 => in_cut = true,
+                            0 => {
+                                ws.zone[e] = 2;
+                                ws.stack.push(e);
+                            }
+                            _ => {}
+                        }
+                    }
+                    if in_cut {
+                        ws.cut.push(o);
+                    }
+                }
+            }
+            let m = ws
+                .cut
+                .iter()
+                .map(|&o| ws.cost[o])
+                .fold(f64::INFINITY, f64::min);
+            if !m.is_finite() || m <= EPS {
+                // Cannot happen for a correct cut; stay admissible and stop.
+                return Some(h);
+            }
+            h += m;
+            for i in 0..ws.cut.len() {
+                let o = ws.cut[i];
+                ws.cost[o] -= m;
+            }
+            self.hmax_incremental(ws);
+        }
+    }
+
+    /// After the costs of the cut's operators fell, lower the h^max values that depend on them
+    /// (values only decrease), as in Fast Downward's incremental LM-cut.
+    fn hmax_incremental(&self, ws: &mut Workspace) {
+        ws.heap.clear();
+        for i in 0..ws.cut.len() {
+            let o = ws.cut[i];
+            let target = ws.op_val[o] + ws.cost[o];
+            for &e in &self.eff[o] {
+                if ws.value[e] > target {
+                    ws.value[e] = target;
+                    ws.heap.push(Reverse((Prio(target), e)));
+                }
+            }
+        }
+        while let Some(Reverse((Prio(d), f))) = ws.heap.pop() {
+            if d > ws.value[f] {
+                continue;
+            }
+            for &o in &self.pre_of[f] {
+                if ws.unsat[o] != 0 || ws.supporter[o] != f || ws.op_val[o] <= d {
+                    continue;
+                }
+                // Re-select the supporter: the precondition with the largest value.
+                let mut best = f;
+                let mut bv = f64::NEG_INFINITY;
+                for &p in &self.pre[o] {
+                    if ws.value[p] > bv {
+                        bv = ws.value[p];
+                        best = p;
+                    }
+                }
+                ws.supporter[o] = best;
+                if bv < ws.op_val[o] {
+                    ws.op_val[o] = bv;
+                    let target = bv + ws.cost[o];
+                    for &e in &self.eff[o] {
+                        if ws.value[e] > target {
+                            ws.value[e] = target;
+                            ws.heap.push(Reverse((Prio(target), e)));
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// h^FF of `state` (relaxed plan cost under `costs`), with the relaxed plan's operators
+    /// that are applicable in `state` pushed into `preferred`; `None` at a dead end.
+    pub fn ff(
+        &self,
+        state: &[Val],
+        costs: &[f64],
+        ws: &mut Workspace,
+        preferred: &mut Vec<usize>,
+    ) -> Option<f64> {
+        preferred.clear();
+        self.explore(state, costs, true, ws, true);
+        if ws.value[self.goal_fact].is_infinite() {
+            return None;
+        }
+        ws.mark.clear();
+        ws.mark.resize(self.pre.len(), false);
+        ws.seen.clear();
+        ws.seen.resize(self.n_facts, false);
+        ws.stack.clear();
+        ws.stack.push(self.goal_fact);
+        ws.seen[self.goal_fact] = true;
+        let mut h = 0.0;
+        while let Some(f) = ws.stack.pop() {
+            let o = ws.achiever[f];
+            if o == usize::MAX || ws.mark[o] {
+                continue;
+            }
+            ws.mark[o] = true;
+            if o != self.goal_op {
+                h += costs[o];
+                if ws.op_val[o] == 0.0 {
+                    preferred.push(o);
+                }
+            }
+            for &p in &self.pre[o] {
+                if !ws.seen[p] {
+                    ws.seen[p] = true;
+                    ws.stack.push(p);
+                }
+            }
+        }
+        preferred.sort_unstable();
+        Some(h)
+    }
+}
+
+/// Reusable buffers for heuristic evaluation.
+#[derive(Debug, Default, Clone)]
+pub struct Workspace {
+    value: Vec<f64>,
+    op_val: Vec<f64>,
+    acc: Vec<f64>,
+    unsat: Vec<u32>,
+    supporter: Vec<usize>,
+    achiever: Vec<usize>,
+    cost: Vec<f64>,
+    zone: Vec<u8>,
+    stack: Vec<usize>,
+    cut: Vec<usize>,
+    mark: Vec<bool>,
+    seen: Vec<bool>,
+    heap: BinaryHeap<Reverse<(Prio, usize)>>,
+    by_sup: Vec<Vec<usize>>,
+}

@@ -1,0 +1,255 @@
+//! The grounded SAS+ task (Bäckström & Nebel 1995): finite-domain variables, an initial state,
+//! a partial goal state and operators with precondition and effect lists, each operator carrying
+//! a cost and a success probability (paper 002, §II-A.1).
+
+use std::fmt;
+
+/// Index of a state variable.
+pub type Var = u32;
+/// Index of a value in a variable's domain.
+pub type Val = u32;
+
+/// One finite-domain state variable.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Variable {
+    /// Printable name, e.g. `category(room1)` or `at(ball1, rooma)`.
+    pub name: String,
+    /// Names of the values; the domain is `0..values.len()`.
+    pub values: Vec<String>,
+}
+
+/// One grounded operator.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Operator {
+    /// Name of the operator schema it was grounded from (e.g. `move`).
+    pub schema: String,
+    /// The schema's arguments, in parameter order.
+    pub args: Vec<String>,
+    /// How the step is printed in a plan listing (e.g. `MOVE place1`).
+    pub display: String,
+    /// Preconditions `var = val`, sorted by variable, at most one per variable.
+    pub pre: Vec<(Var, Val)>,
+    /// Effects `var := val`, sorted by variable, at most one per variable.
+    pub eff: Vec<(Var, Val)>,
+    /// Non-negative cost.
+    pub cost: f64,
+    /// Success probability in (0, 1].
+    pub prob: f64,
+    /// Whether this is an assumptive operator (it sets what is not known).
+    pub assumption: bool,
+}
+
+impl Operator {
+    /// `schema arg1 arg2 …`: the key by which a step is matched across re-groundings.
+    pub fn key(&self) -> String {
+        key_of(&self.schema, &self.args)
+    }
+}
+
+/// The key of a step: its schema and arguments joined by spaces.
+pub fn key_of(schema: &str, args: &[String]) -> String {
+    let mut s = schema.to_string();
+    for a in args {
+        s.push(' ');
+        s.push_str(a);
+    }
+    s
+}
+
+/// A grounded SAS+ planning task with costs and success probabilities.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Task {
+    /// The state variables.
+    pub variables: Vec<Variable>,
+    /// The initial value of every variable.
+    pub init: Vec<Val>,
+    /// The goal: a partial assignment.
+    pub goal: Vec<(Var, Val)>,
+    /// The operators.
+    pub operators: Vec<Operator>,
+}
+
+impl Task {
+    /// Whether every operator costs exactly 1 (the competition's "unit cost").
+    pub fn is_unit_cost(&self) -> bool {
+        self.operators.iter().all(|o| o.cost == 1.0)
+    }
+
+    /// Whether every operator succeeds with probability 1.
+    pub fn is_deterministic(&self) -> bool {
+        self.operators.iter().all(|o| o.prob >= 1.0)
+    }
+
+    /// Whether `state` satisfies the goal.
+    pub fn is_goal(&self, state: &[Val]) -> bool {
+        self.goal.iter().all(|&(v, x)| state[v as usize] == x)
+    }
+
+    /// Check internal consistency (indices in range, probabilities in (0,1], costs ≥ 0 and finite).
+    pub fn check(&self) -> Result<(), crate::PlanError> {
+        let bad = |m: String| Err(crate::PlanError::InvalidTask(m));
+        if self.init.len() != self.variables.len() {
+            return bad(format!(
+                "initial state has {} values for {} variables",
+                self.init.len(),
+                self.variables.len()
+            ));
+        }
+        let in_range = |v: Var, x: Val| {
+            (v as usize) < self.variables.len()
+                && (x as usize) < self.variables[v as usize].values.len()
+        };
+        for (i, &x) in self.init.iter().enumerate() {
+            if !in_range(i as Var, x) {
+                return bad(format!("initial value {x} of variable {i} out of range"));
+            }
+        }
+        for &(v, x) in &self.goal {
+            if !in_range(v, x) {
+                return bad(format!("goal fact {v}={x} out of range"));
+            }
+        }
+        for o in &self.operators {
+            if !(o.cost.is_finite() && o.cost >= 0.0) {
+                return bad(format!("operator `{}` has cost {}", o.key(), o.cost));
+            }
+            if !(o.prob > 0.0 && o.prob <= 1.0) {
+                return bad(format!("operator `{}` has probability {}", o.key(), o.prob));
+            }
+            for &(v, x) in o.pre.iter().chain(&o.eff) {
+                if !in_range(v, x) {
+                    return bad(format!(
+                        "operator `{}` mentions {v}={x} out of range",
+                        o.key()
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A plan: operator indices into a [`Task`], with its cost and success probability.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    /// The steps (indices into `Task::operators`).
+    pub steps: Vec<usize>,
+    /// Σ cost(a).
+    pub cost: f64,
+    /// Π p(a).
+    pub probability: f64,
+    /// The objective cost(π) + R·(1 − p(π)) with the reward used in the search.
+    pub objective: f64,
+}
+
+/// What one search did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SearchStats {
+    /// States expanded.
+    pub expanded: u64,
+    /// Successors generated.
+    pub generated: u64,
+    /// Heuristic evaluations.
+    pub evaluated: u64,
+}
+
+/// A plan validated against a task by simulation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Validated {
+    /// Σ cost(a).
+    pub cost: f64,
+    /// Π p(a).
+    pub probability: f64,
+}
+
+/// Why a plan is not valid.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum InvalidPlan {
+    /// A step's operator index does not exist.
+    #[error("step {step}: no operator with index {index}")]
+    NoSuchOperator {
+        /// 0-based step.
+        step: usize,
+        /// The index.
+        index: usize,
+    },
+    /// A step's precondition does not hold.
+    #[error("step {step} ({action}): precondition {fact} does not hold")]
+    Precondition {
+        /// 0-based step.
+        step: usize,
+        /// The step as printed.
+        action: String,
+        /// The failed fact.
+        fact: String,
+    },
+    /// The final state does not satisfy the goal.
+    #[error("the plan ends in a state where goal {fact} does not hold")]
+    GoalNotReached {
+        /// The first unsatisfied goal fact.
+        fact: String,
+    },
+}
+
+impl fmt::Display for Task {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "SAS+ task: {} variables, {} operators, {} goal facts",
+            self.variables.len(),
+            self.operators.len(),
+            self.goal.len()
+        )
+    }
+}
+
+/// Print `var = value` by name.
+pub fn fact_name(task: &Task, v: Var, x: Val) -> String {
+    let var = &task.variables[v as usize];
+    format!(
+        "{} = {}",
+        var.name,
+        var.values
+            .get(x as usize)
+            .map(String::as_str)
+            .unwrap_or("?")
+    )
+}
+
+/// Simulate `steps` on `task` from its initial state (SAS+ semantics: an operator applies when
+/// all its preconditions hold and sets its effects) and check that the goal holds at the end.
+///
+/// This is deliberately written without any of the search code's data structures.
+pub fn validate_sas(task: &Task, steps: &[usize]) -> Result<Validated, InvalidPlan> {
+    let mut state = task.init.clone();
+    let mut cost = 0.0;
+    let mut probability = 1.0;
+    for (i, &s) in steps.iter().enumerate() {
+        let op = task
+            .operators
+            .get(s)
+            .ok_or(InvalidPlan::NoSuchOperator { step: i, index: s })?;
+        for &(v, x) in &op.pre {
+            if state[v as usize] != x {
+                return Err(InvalidPlan::Precondition {
+                    step: i,
+                    action: op.display.clone(),
+                    fact: fact_name(task, v, x),
+                });
+            }
+        }
+        for &(v, x) in &op.eff {
+            state[v as usize] = x;
+        }
+        cost += op.cost;
+        probability *= op.prob;
+    }
+    for &(v, x) in &task.goal {
+        if state[v as usize] != x {
+            return Err(InvalidPlan::GoalNotReached {
+                fact: fact_name(task, v, x),
+            });
+        }
+    }
+    Ok(Validated { cost, probability })
+}

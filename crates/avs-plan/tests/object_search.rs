@@ -1,0 +1,251 @@
+//! The object-search domain on the default environment: the first plan, and scripted
+//! replanning when an assumption fails, when a room turns out to be an office, and when every
+//! option falls below the success threshold.
+
+mod common;
+
+use avs_plan::continual::{ContinualOptions, ContinualPlanner, Decision, GiveUp, Replan, Verdict};
+use avs_plan::lifted::validate_steps;
+use avs_plan::problem::Problem;
+use common::*;
+use std::collections::HashMap;
+
+fn planner() -> ContinualPlanner {
+    ContinualPlanner::new(object_search_domain(), ContinualOptions::default())
+}
+
+fn functions(xy: &HashMap<String, (f64, f64)>) -> impl Fn(&str, &[&str]) -> Option<f64> + '_ {
+    move |n: &str, a: &[&str]| stand_in(n, a, xy)
+}
+
+fn plan_of(d: Decision) -> avs_plan::continual::ActivePlan {
+    match d {
+        Decision::Plan(p) => p,
+        other => panic!("expected a plan, got {other:?}"),
+    }
+}
+
+fn lines(p: &avs_plan::continual::ActivePlan) -> Vec<String> {
+    p.steps.iter().map(|s| s.display.clone()).collect()
+}
+
+fn steps_of(p: &avs_plan::continual::ActivePlan) -> Vec<(String, Vec<String>)> {
+    p.steps
+        .iter()
+        .map(|s| (s.schema.clone(), s.args.clone()))
+        .collect()
+}
+
+#[test]
+fn first_plan_in_default_environment_has_the_shape_of_the_papers_first_listing() {
+    let w = office_start(3, &LABELS, "cerealbox");
+    let pl = planner();
+    let f = functions(&w.xy);
+    let plan = plan_of(pl.plan(&w.problem, &f).unwrap());
+    assert_eq!(
+        lines(&plan),
+        [
+            "ASSUME-LEADS-TO-ROOM place1 kitchen",
+            "ASSUME-OBJECT-EXISTS table IN new-room1 kitchen",
+            "ASSUME-OBJECT-EXISTS cerealbox ON new-object1 table kitchen",
+            "MOVE place1",
+            "CREATEVIEWCONES table IN new-room1",
+            "SEARCHFOROBJECT table IN new-room1 new-object1",
+            "CREATEVIEWCONES cerealbox ON new-object1",
+            "SEARCHFOROBJECT cerealbox ON new-object1 new-object2",
+            "REPORTPOSITION new-object2",
+        ]
+    );
+    assert!(plan.steps[..3].iter().all(|s| s.assumption));
+    // The independent lifted validator accepts it with the same cost and probability.
+    let v = validate_steps(&pl.domain, &w.problem, &steps_of(&plan), &f).unwrap();
+    assert!((v.cost - plan.cost).abs() < 1e-9 && (v.prob - plan.probability).abs() < 1e-12);
+    // p = P(kitchen | place1) · P(table | kitchen) · P(cerealbox on table | kitchen) · 0.8²
+    assert!((plan.probability - 0.3 * 0.9 * 0.5 * 0.8 * 0.8).abs() < 1e-12);
+    assert!((plan.objective - (plan.cost + 1000.0 * (1.0 - plan.probability))).abs() < 1e-9);
+}
+
+#[test]
+fn fast_mode_plan_is_valid_but_may_be_worse() {
+    let w = office_start(3, &LABELS, "cerealbox");
+    let mut opts = ContinualOptions::default();
+    opts.search.mode = avs_plan::Mode::Fast;
+    let fast = ContinualPlanner::new(object_search_domain(), opts);
+    let f = functions(&w.xy);
+    let pf = plan_of(fast.plan(&w.problem, &f).unwrap());
+    let po = plan_of(planner().plan(&w.problem, &f).unwrap());
+    validate_steps(&fast.domain, &w.problem, &steps_of(&pf), &f).unwrap();
+    assert!(pf.objective >= po.objective - 1e-9);
+}
+
+/// After executing `plan` through its MOVE onto a placeholder, the world as the robot now knows it.
+fn after_move(start: &Problem, at: &str, updates: &[&str]) -> Problem {
+    let mut p = start.clone().set(&format!("robot-at = {at}"));
+    for u in updates {
+        p = if u.contains('=') { p.set(u) } else { p };
+    }
+    p
+}
+
+#[test]
+fn scripted_replanning_first_assumption_fails_room_is_an_office_then_give_up() {
+    let pl = planner();
+    let w = office_start(3, &LABELS, "cerealbox");
+    let f = functions(&w.xy);
+
+    // Plan 1 assumes place1 leads to a kitchen.
+    let p1 = plan_of(pl.plan(&w.problem, &f).unwrap());
+    assert_eq!(p1.steps[0].display, "ASSUME-LEADS-TO-ROOM place1 kitchen");
+    let move1 = p1
+        .steps
+        .iter()
+        .position(|s| s.display == "MOVE place1")
+        .unwrap();
+    // Before anything changes, the monitor says continue.
+    assert_eq!(
+        pl.monitor(&p1, 0, &w.problem, &f).unwrap(),
+        Verdict::Continue
+    );
+
+    // The robot reaches place1: it leads nowhere new (the first assumption fails).
+    let s1 = after_move(
+        &w.problem,
+        "place1",
+        &["leads-to(place1) = none", "open-placeholders(room0) = n3"],
+    );
+    let v1 = pl.monitor(&p1, move1 + 1, &s1, &f).unwrap();
+    let Verdict::Replan(Replan::AssumptionContradicted {
+        step,
+        assumed,
+        actual,
+        ..
+    }) = &v1
+    else {
+        panic!("expected a contradicted assumption, got {v1:?}")
+    };
+    assert_eq!(*step, 0);
+    assert_eq!(assumed, "leads-to(place1) = new-room1");
+    assert_eq!(actual, "leads-to(place1) = none");
+
+    // Plan 2 turns to the next door.
+    let p2 = plan_of(pl.plan(&s1, &f).unwrap());
+    assert_eq!(p2.steps[0].display, "ASSUME-LEADS-TO-ROOM place2 kitchen");
+    assert!(lines(&p2).contains(&"MOVE place2".to_string()));
+    validate_steps(&pl.domain, &s1, &steps_of(&p2), &f).unwrap();
+
+    // The robot enters through place2 into a new room, room1, which turns out to be an office.
+    let move2 = p2
+        .steps
+        .iter()
+        .position(|s| s.display == "MOVE place2")
+        .unwrap();
+    let s2 = after_move(&s1, "place2", &[])
+        .object("room1", "room")
+        .set("leads-to(place2) = room1")
+        .set("robot-room = room1")
+        .set("category(room1) = office");
+    let v2 = pl.monitor(&p2, move2 + 1, &s2, &f).unwrap();
+    let Verdict::Replan(Replan::AssumptionContradicted {
+        assumed, actual, ..
+    }) = &v2
+    else {
+        panic!("expected the kitchen assumption to be contradicted, got {v2:?}")
+    };
+    // The virtual room was matched to room1 before the category was compared.
+    assert_eq!(assumed, "category(room1) = kitchen");
+    assert_eq!(actual, "category(room1) = office");
+
+    // Plan 3 tries the last door.
+    let p3 = plan_of(pl.plan(&s2, &f).unwrap());
+    assert_eq!(p3.steps[0].display, "ASSUME-LEADS-TO-ROOM place3 kitchen");
+    validate_steps(&pl.domain, &s2, &steps_of(&p3), &f).unwrap();
+
+    // The conceptual map now thinks new rooms very unlikely and cereal boxes rare everywhere:
+    // every option falls below the 1 % threshold, so the planner gives up.
+    let xy = w.xy.clone();
+    let bleak = move |n: &str, a: &[&str]| match n {
+        "p-leads-to-room" | "p-category" => Some(0.001),
+        "p-object-in" | "p-object-on" => stand_in(n, a, &xy).map(|p| p * 0.1),
+        _ => stand_in(n, a, &xy),
+    };
+    let v3 = pl.monitor(&p3, 0, &s2, &bleak).unwrap();
+    assert!(
+        matches!(
+            v3,
+            Verdict::Replan(Replan::AssumptionUnlikely { step: 0, .. })
+        ),
+        "{v3:?}"
+    );
+    match pl.plan(&s2, &bleak).unwrap() {
+        Decision::GiveUp(GiveUp::TooUnlikely { best, threshold }) => {
+            assert_eq!(threshold, 0.01);
+            assert!(best.is_some_and(|p| p < threshold), "{best:?}");
+        }
+        other => panic!("expected to give up, got {other:?}"),
+    }
+}
+
+#[test]
+fn monitor_reports_failed_preconditions_and_reached_goals() {
+    let pl = planner();
+    let w = office_start(3, &LABELS, "cerealbox");
+    let f = functions(&w.xy);
+    let p1 = plan_of(pl.plan(&w.problem, &f).unwrap());
+    // The robot was pushed to the east end of the corridor: MOVE place1 no longer applies.
+    let moved = w.problem.clone().set("robot-at = place6");
+    let v = pl.monitor(&p1, 3, &moved, &f).unwrap();
+    assert!(
+        matches!(&v, Verdict::Replan(Replan::PreconditionFailed { action, condition, .. })
+            if action == "MOVE place1" && condition.contains("robot-at")),
+        "{v:?}"
+    );
+    let done = w.problem.clone().set("reported(cerealbox) = yes");
+    assert_eq!(pl.monitor(&p1, 3, &done, &f).unwrap(), Verdict::GoalReached);
+    assert_eq!(pl.plan(&done, &f).unwrap(), Decision::GoalReached);
+}
+
+#[test]
+fn no_plan_at_all_gives_up_saying_so() {
+    let pl = planner();
+    // A world without placeholders and a corridor known to be a corridor with nothing in it.
+    let p = Problem::new()
+        .object("room0", "room")
+        .object("corridor", "category")
+        .object("cerealbox", "label")
+        .object("place0", "place")
+        .fact("in-room(place0, room0)")
+        .init("robot-at = place0")
+        .init("robot-room = room0")
+        .init("category(room0) = corridor")
+        .goal("reported(cerealbox) = yes");
+    let f = |n: &str, _: &[&str]| match n {
+        "p-object-in" | "p-object-on" => Some(0.0),
+        _ => Some(0.5),
+    };
+    assert_eq!(pl.plan(&p, &f).unwrap(), Decision::GiveUp(GiveUp::NoPlan));
+}
+
+#[test]
+fn missing_or_invalid_functions_are_errors_naming_the_call() {
+    let pl = planner();
+    let w = office_start(3, &LABELS, "cerealbox");
+    let none = |_: &str, _: &[&str]| None;
+    let e = pl.plan(&w.problem, &none).unwrap_err().to_string();
+    assert!(e.contains("not supplied"), "{e}");
+    let xy = w.xy.clone();
+    let nan = move |n: &str, a: &[&str]| {
+        if n == "p-category" {
+            Some(f64::NAN)
+        } else {
+            stand_in(n, a, &xy)
+        }
+    };
+    let e = pl.plan(&w.problem, &nan).unwrap_err().to_string();
+    assert!(e.contains("p-category"), "{e}");
+    let bad = w.problem.clone().init("category(room9) = kitchen");
+    assert!(pl.plan(&bad, &f_unused).is_err());
+}
+
+fn f_unused(_: &str, _: &[&str]) -> Option<f64> {
+    Some(1.0)
+}

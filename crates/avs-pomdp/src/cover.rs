@@ -1,0 +1,216 @@
+//! CREATEVIEWCONES: view planning by coverage (Sjöö et al., `004` §2.1).
+//!
+//! Candidate views are every reachable robot pose × camera pan × tilt on a grid of half the field of
+//! view (so neighbouring views overlap by half). A point is covered by a view when (§2.1.2–2.1.3)
+//! * it lies inside the horizontal and vertical field of view around the view direction,
+//! * its distance from the camera is within the object class's `[min, max]` detection range, and
+//! * the caller's line-of-sight predicate holds from the camera to the point (the paper ignores
+//!   occlusion by laser-level obstacles; pass `|_, _| true` for that behaviour).
+//!
+//! Views are then chosen greedily (§2.1.4): repeatedly the view covering most not-yet-covered points,
+//! until every point is covered or no view adds any. Greedy set cover is within a factor `H(k) ≤ ln k + 1`
+//! of the minimum number of views (Chvátal 1979).
+
+use crate::error::{PomdpError, Result};
+use std::f64::consts::PI;
+
+/// Camera geometry (angles in radians, lengths in metres).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct CameraModel {
+    /// Horizontal field of view.
+    pub hfov: f64,
+    /// Vertical field of view.
+    pub vfov: f64,
+    /// Pan limits relative to the robot's heading, `[min, max]`.
+    pub pan_limits: [f64; 2],
+    /// Tilt limits (positive up), `[min, max]`.
+    pub tilt_limits: [f64; 2],
+    /// Height of the camera's optical centre above the floor.
+    pub height: f64,
+}
+
+/// Detection range of the object class searched for.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct DetectionRange {
+    /// Minimum distance from the camera.
+    pub min: f64,
+    /// Maximum distance from the camera.
+    pub max: f64,
+}
+
+/// One planned view: where the robot stands and where the camera points.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct PlannedView {
+    /// Index of the candidate pose used.
+    pub pose_index: usize,
+    /// Robot pose `[x, y, heading]`.
+    pub pose: [f64; 3],
+    /// Camera pan relative to the heading.
+    pub pan: f64,
+    /// Camera tilt.
+    pub tilt: f64,
+    /// Every point this view covers.
+    pub covered: Vec<usize>,
+    /// The points it covered first (disjoint across views; in greedy order).
+    pub newly_covered: Vec<usize>,
+}
+
+/// The result of CREATEVIEWCONES.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ViewConePlan {
+    /// Chosen views in greedy order.
+    pub views: Vec<PlannedView>,
+    /// Share of the location's points covered by some chosen view.
+    pub covered_share: f64,
+    /// Points no candidate view can cover.
+    pub uncovered: Vec<usize>,
+}
+
+impl ViewConePlan {
+    /// Cells per view, in the form [`crate::viewcone::cone_priors`] takes.
+    pub fn cone_cells(&self) -> Vec<Vec<usize>> {
+        self.views.iter().map(|v| v.covered.clone()).collect()
+    }
+}
+
+fn angle_steps(lo: f64, hi: f64, step: f64) -> Vec<f64> {
+    if hi - lo <= 1e-12 {
+        return vec![(lo + hi) / 2.0];
+    }
+    let k = ((hi - lo) / step).ceil().max(1.0) as usize;
+    (0..=k)
+        .map(|i| lo + (hi - lo) * i as f64 / k as f64)
+        .collect()
+}
+
+fn wrap(a: f64) -> f64 {
+    let mut x = (a + PI).rem_euclid(2.0 * PI) - PI;
+    if x < -PI {
+        x += 2.0 * PI;
+    }
+    x
+}
+
+/// Generate view cones covering `points` (world `[x, y, z]`: the location's cells or sample points)
+/// from `poses` (reachable robot poses `[x, y, heading]`), for an object class with detection range
+/// `range`, using the caller's line-of-sight predicate.
+pub fn create_view_cones(
+    points: &[[f64; 3]],
+    poses: &[[f64; 3]],
+    camera: &CameraModel,
+    range: DetectionRange,
+    line_of_sight: impl Fn([f64; 3], [f64; 3]) -> bool,
+) -> Result<ViewConePlan> {
+    let bad = |field: &'static str, message: String| PomdpError::InvalidInput { field, message };
+    if points.iter().flatten().any(|v| !v.is_finite()) {
+        return Err(bad("points", "coordinates must be finite".into()));
+    }
+    if poses.iter().flatten().any(|v| !v.is_finite()) {
+        return Err(bad("poses", "coordinates must be finite".into()));
+    }
+    let c = camera;
+    if !(c.hfov > 0.0 && c.hfov <= 2.0 * PI && c.vfov > 0.0 && c.vfov < PI) {
+        return Err(bad(
+            "camera",
+            format!(
+                "fields of view must be in (0, 2π] and (0, π), got {} and {}",
+                c.hfov, c.vfov
+            ),
+        ));
+    }
+    if !(c.pan_limits[0] <= c.pan_limits[1]
+        && c.tilt_limits[0] <= c.tilt_limits[1]
+        && c.pan_limits
+            .iter()
+            .chain(&c.tilt_limits)
+            .all(|x| x.is_finite())
+        && c.height.is_finite())
+    {
+        return Err(bad(
+            "camera",
+            "pan/tilt limits must be finite [min, max] pairs and the height finite".into(),
+        ));
+    }
+    if !(range.min >= 0.0 && range.max > range.min && range.max.is_finite()) {
+        return Err(bad(
+            "range",
+            format!(
+                "expected 0 ≤ min < max < ∞, got [{}, {}]",
+                range.min, range.max
+            ),
+        ));
+    }
+    // Candidate views with their coverage.
+    let pans = angle_steps(c.pan_limits[0], c.pan_limits[1], c.hfov / 2.0);
+    let tilts = angle_steps(c.tilt_limits[0], c.tilt_limits[1], c.vfov / 2.0);
+    let mut candidates: Vec<(usize, f64, f64, Vec<usize>)> = Vec::new();
+    for (pi, pose) in poses.iter().enumerate() {
+        let cam = [pose[0], pose[1], c.height];
+        // Points in range and in line of sight do not depend on the camera angles.
+        let visible: Vec<(usize, f64, f64)> = points
+            .iter()
+            .enumerate()
+            .filter_map(|(k, p)| {
+                let (dx, dy, dz) = (p[0] - cam[0], p[1] - cam[1], p[2] - cam[2]);
+                let horiz = (dx * dx + dy * dy).sqrt();
+                let d = (horiz * horiz + dz * dz).sqrt();
+                if d < range.min || d > range.max || !line_of_sight(cam, *p) {
+                    return None;
+                }
+                Some((k, dy.atan2(dx), dz.atan2(horiz)))
+            })
+            .collect();
+        if visible.is_empty() {
+            continue;
+        }
+        for &pan in &pans {
+            let yaw = pose[2] + pan;
+            for &tilt in &tilts {
+                let covered: Vec<usize> = visible
+                    .iter()
+                    .filter(|(_, az, el)| {
+                        wrap(az - yaw).abs() <= c.hfov / 2.0 + 1e-12
+                            && (el - tilt).abs() <= c.vfov / 2.0 + 1e-12
+                    })
+                    .map(|(k, _, _)| *k)
+                    .collect();
+                if !covered.is_empty() {
+                    candidates.push((pi, pan, tilt, covered));
+                }
+            }
+        }
+    }
+    // Greedy set cover (§2.1.4).
+    let mut is_covered = vec![false; points.len()];
+    let mut views = Vec::new();
+    loop {
+        let best = candidates
+            .iter()
+            .enumerate()
+            .map(|(i, (_, _, _, cov))| (i, cov.iter().filter(|k| !is_covered[**k]).count()))
+            .filter(|(_, n)| *n > 0)
+            .max_by(|x, y| x.1.cmp(&y.1).then(y.0.cmp(&x.0)));
+        let Some((i, _)) = best else { break };
+        let (pi, pan, tilt, cov) = candidates.swap_remove(i);
+        let newly: Vec<usize> = cov.iter().copied().filter(|k| !is_covered[*k]).collect();
+        newly.iter().for_each(|k| is_covered[*k] = true);
+        views.push(PlannedView {
+            pose_index: pi,
+            pose: poses[pi],
+            pan,
+            tilt,
+            covered: cov,
+            newly_covered: newly,
+        });
+    }
+    let n_cov = is_covered.iter().filter(|x| **x).count();
+    Ok(ViewConePlan {
+        views,
+        covered_share: if points.is_empty() {
+            1.0
+        } else {
+            n_cov as f64 / points.len() as f64
+        },
+        uncovered: (0..points.len()).filter(|k| !is_covered[*k]).collect(),
+    })
+}

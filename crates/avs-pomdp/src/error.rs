@@ -1,0 +1,46 @@
+//! Typed errors of the crate.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong when reading, building or solving a POMDP.
+#[derive(Debug, thiserror::Error)]
+pub enum PomdpError {
+    /// A Cassandra `.pomdp` file could not be read from disk.
+    #[error("cannot read POMDP file {path}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+    /// A Cassandra `.pomdp` file is malformed.
+    #[error("{file}:{line}: {message}")]
+    Parse {
+        /// File name (or `<string>` for in-memory text).
+        file: String,
+        /// 1-based line number of the offending token.
+        line: usize,
+        /// What was found and what is expected.
+        message: String,
+    },
+    /// A model is inconsistent (probabilities that do not sum to one, NaN, sizes that disagree).
+    #[error("invalid POMDP model: {0}")]
+    InvalidModel(String),
+    /// A view-cone problem or coverage request has a bad field.
+    #[error("invalid view-cone input: field `{field}`: {message}")]
+    InvalidInput {
+        /// The offending field.
+        field: &'static str,
+        /// What is wrong and what is expected.
+        message: String,
+    },
+    /// An action, observation or belief given to a solver or session does not fit the model.
+    #[error("invalid argument: {0}")]
+    InvalidArgument(String),
+    /// The closed-loop session already ended with an outcome.
+    #[error("the view-cone session has already ended")]
+    SessionEnded,
+}
+
+/// Result alias for this crate.
+pub type Result<T> = std::result::Result<T, PomdpError>;

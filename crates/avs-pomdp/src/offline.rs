@@ -1,0 +1,226 @@
+//! Offline point-based solver: heuristic search value iteration (HSVI2, Smith & Simmons 2005,
+//! "Point-based POMDP algorithms: improved analysis and implementation", Algorithm 1).
+//!
+//! Each trial walks from b₀, choosing the action with the best upper bound
+//! `a* = argmax_a Q̄(b, a)` and the observation with the largest weighted excess uncertainty
+//! `z* = argmax_z P(z|b,a*) · (V̄ − V̲)(τ(b,a*,z)) − ε γ^{−(t+1)}` (HSVI eq. 9–10), until the gap at the
+//! current belief is below `ε γ^{−t}`; then both bounds are backed up along the path in reverse.
+//! The solve ends when the gap `V̄(b₀) − V̲(b₀)` is at most the target, or the time/iteration budget is
+//! spent: the gap at the initial belief is what drives termination.
+
+use crate::bounds::Bounds;
+use crate::error::{PomdpError, Result};
+use crate::model::{to_sparse, Pomdp, Sparse};
+use std::time::{Duration, Instant};
+
+/// Budget and precision of an offline solve.
+#[derive(Debug, Clone)]
+pub struct OfflineOptions {
+    /// Stop when `upper − lower` at the initial belief is at most this.
+    pub target_gap: f64,
+    /// Stop after this much wall time (anytime: the bounds stay valid).
+    pub time_limit: Option<Duration>,
+    /// Stop after this many HSVI trials.
+    pub max_trials: usize,
+    /// Sweeps of the initial fixed-point bounds (blind policy, Q_MDP, FIB).
+    pub init_iterations: usize,
+}
+
+impl Default for OfflineOptions {
+    fn default() -> Self {
+        Self {
+            target_gap: 1e-3,
+            time_limit: None,
+            max_trials: 1_000_000,
+            init_iterations: 2_000,
+        }
+    }
+}
+
+/// Why a solve stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    /// The gap at the initial belief reached the target.
+    Converged,
+    /// The time limit was reached.
+    TimeLimit,
+    /// The trial limit was reached.
+    TrialLimit,
+}
+
+/// Result of an offline solve: valid bounds everywhere and their values at b₀.
+#[derive(Debug, Clone)]
+pub struct OfflineSolution {
+    /// The bounds (usable by [`crate::online`] and as a policy through [`Bounds::lower_action`]).
+    pub bounds: Bounds,
+    /// `V̲(b₀)`.
+    pub lower: f64,
+    /// `V̄(b₀)`.
+    pub upper: f64,
+    /// HSVI trials run.
+    pub trials: usize,
+    /// Backups performed.
+    pub backups: usize,
+    /// Wall time of the solve.
+    pub seconds: f64,
+    /// Why it stopped.
+    pub stop: StopReason,
+}
+
+impl OfflineSolution {
+    /// `upper − lower` at the initial belief.
+    pub fn gap(&self) -> f64 {
+        self.upper - self.lower
+    }
+}
+
+/// Solve from the model's initial belief.
+pub fn solve(m: &Pomdp, opts: &OfflineOptions) -> Result<OfflineSolution> {
+    solve_from(m, m.initial_belief(), None, opts)
+}
+
+/// Solve from belief `b0`, optionally refining existing `bounds` (which must belong to `m`).
+pub fn solve_from(
+    m: &Pomdp,
+    b0: &[f64],
+    bounds: Option<Bounds>,
+    opts: &OfflineOptions,
+) -> Result<OfflineSolution> {
+    m.check_belief(b0)?;
+    if !(opts.target_gap.is_finite() && opts.target_gap > 0.0) {
+        return Err(PomdpError::InvalidArgument(format!(
+            "target gap must be a positive number, got {}",
+            opts.target_gap
+        )));
+    }
+    let start = Instant::now();
+    let mut bounds = match bounds {
+        Some(b) => {
+            if b.corners.len() != m.n_states() {
+                return Err(PomdpError::InvalidArgument(
+                    "bounds belong to a model with a different number of states".into(),
+                ));
+            }
+            b
+        }
+        None => Bounds::initial(m, opts.init_iterations),
+    };
+    let b0 = to_sparse(b0);
+    let gamma = m.discount();
+    let eps = opts.target_gap;
+    let mut scratch = vec![0.0; m.n_states()];
+    let mut touched = Vec::new();
+    let mut trials = 0;
+    let mut backups = 0;
+    let width = |bd: &Bounds, b: &[(usize, f64)]| bd.upper_sparse(b) - bd.lower_sparse(b).0;
+    let max_depth = {
+        // Beyond this depth γ^t times the largest possible gap is below ε.
+        let span = width(&bounds, &b0).max(eps);
+        ((eps / span).ln() / gamma.ln()).ceil().clamp(1.0, 10_000.0) as usize + 1
+    };
+    let mut last_pruned_size = 0usize;
+    let stop = loop {
+        if width(&bounds, &b0) <= eps {
+            break StopReason::Converged;
+        }
+        if trials >= opts.max_trials {
+            break StopReason::TrialLimit;
+        }
+        if let Some(limit) = opts.time_limit {
+            if start.elapsed() >= limit {
+                break StopReason::TimeLimit;
+            }
+        }
+        trials += 1;
+        // Forward pass.
+        type Node = (Sparse, Vec<(f64, Vec<(f64, Sparse)>)>, Vec<f64>, usize);
+        let mut path: Vec<Node> = Vec::new();
+        let mut b = b0.clone();
+        let mut t = 0usize;
+        let mut threshold = eps;
+        let mut known_width: Option<f64> = None;
+        loop {
+            let w = known_width.unwrap_or_else(|| width(&bounds, &b));
+            if w <= threshold || t >= max_depth {
+                break;
+            }
+            let exps: Vec<(f64, Vec<(f64, Sparse)>)> = (0..m.n_actions())
+                .map(|a| m.expand(&b, a, &mut scratch, &mut touched))
+                .collect();
+            let mut best_a = 0;
+            let mut best_q = f64::NEG_INFINITY;
+            let mut qs = Vec::with_capacity(exps.len());
+            let mut uppers: Vec<Vec<f64>> = Vec::with_capacity(exps.len());
+            for (a, (r, succ)) in exps.iter().enumerate() {
+                let us: Vec<f64> = succ
+                    .iter()
+                    .map(|(p, post)| {
+                        if *p > 0.0 {
+                            bounds.upper_sparse(post)
+                        } else {
+                            0.0
+                        }
+                    })
+                    .collect();
+                let q = r + gamma * succ.iter().zip(&us).map(|((p, _), u)| p * u).sum::<f64>();
+                qs.push(q);
+                uppers.push(us);
+                if q > best_q {
+                    best_q = q;
+                    best_a = a;
+                }
+            }
+            let next_threshold = threshold / gamma;
+            let mut best_z = None;
+            let mut best_score = f64::NEG_INFINITY;
+            let mut best_width = 0.0;
+            for (z, (p, post)) in exps[best_a].1.iter().enumerate() {
+                if *p <= 0.0 {
+                    continue;
+                }
+                let wz = uppers[best_a][z] - bounds.lower_sparse(post).0;
+                let score = p * (wz - next_threshold);
+                if score > best_score {
+                    best_score = score;
+                    best_z = Some(z);
+                    best_width = wz;
+                }
+            }
+            let next = best_z.map(|z| exps[best_a].1[z].1.clone());
+            path.push((b, exps, qs, best_a));
+            match next {
+                Some(n) => b = n,
+                None => break,
+            }
+            known_width = Some(best_width);
+            threshold = next_threshold;
+            t += 1;
+        }
+        // Backward pass.
+        for (b, exps, qs, best_a) in path.iter().rev() {
+            bounds.backup(m, b, exps, Some((qs, *best_a)));
+            backups += 1;
+        }
+        // Prune when the bounds have grown by half since the last pruning (pruning is quadratic).
+        let size = bounds.n_upper_points() + bounds.alphas.len();
+        if size > last_pruned_size + last_pruned_size / 2 + 16 {
+            bounds.prune_points();
+            bounds.prune_alphas_by_witness(std::slice::from_ref(&b0));
+            last_pruned_size = bounds.n_upper_points() + bounds.alphas.len();
+        }
+    };
+    bounds.prune_alphas();
+    let lower = bounds.lower_sparse(&b0).0;
+    let upper = bounds.upper_sparse(&b0);
+    tracing::debug!(lower, upper, trials, backups, "HSVI finished");
+    Ok(OfflineSolution {
+        bounds,
+        lower,
+        upper,
+        trials,
+        backups,
+        seconds: start.elapsed().as_secs_f64(),
+        stop,
+    })
+}

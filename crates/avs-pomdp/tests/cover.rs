@@ -1,0 +1,159 @@
+//! CREATEVIEWCONES: coverage under field of view, distance limits and line of sight.
+
+use avs_pomdp::{cone_priors, create_view_cones, CameraModel, DetectionRange};
+use std::f64::consts::PI;
+
+fn camera() -> CameraModel {
+    CameraModel {
+        hfov: 60f64.to_radians(),
+        vfov: 45f64.to_radians(),
+        pan_limits: [-PI, PI],
+        tilt_limits: [-0.6, 0.2],
+        height: 1.2,
+    }
+}
+
+/// A 6 m × 4 m room sampled every 0.5 m at table height 0.75 m.
+fn room_points() -> Vec<[f64; 3]> {
+    let mut pts = Vec::new();
+    for i in 0..12 {
+        for j in 0..8 {
+            pts.push([0.25 + 0.5 * i as f64, 0.25 + 0.5 * j as f64, 0.75]);
+        }
+    }
+    pts
+}
+
+/// Independent check of §2.1.2–2.1.3 for one view and one point.
+fn sees(view: &avs_pomdp::PlannedView, cam: &CameraModel, r: DetectionRange, p: [f64; 3]) -> bool {
+    let c = [view.pose[0], view.pose[1], cam.height];
+    let (dx, dy, dz) = (p[0] - c[0], p[1] - c[1], p[2] - c[2]);
+    let horiz = dx.hypot(dy);
+    let d = horiz.hypot(dz);
+    let yaw = view.pose[2] + view.pan;
+    let mut dyaw = dy.atan2(dx) - yaw;
+    while dyaw > PI {
+        dyaw -= 2.0 * PI;
+    }
+    while dyaw < -PI {
+        dyaw += 2.0 * PI;
+    }
+    d >= r.min
+        && d <= r.max
+        && dyaw.abs() <= cam.hfov / 2.0 + 1e-9
+        && (dz.atan2(horiz) - view.tilt).abs() <= cam.vfov / 2.0 + 1e-9
+}
+
+#[test]
+fn greedy_cover_covers_the_whole_room_and_every_claimed_point_is_visible() {
+    let pts = room_points();
+    let poses = [[1.0, 2.0, 0.0], [3.0, 2.0, 0.0], [5.0, 2.0, 0.0]];
+    let range = DetectionRange { min: 0.5, max: 4.0 };
+    let plan = create_view_cones(&pts, &poses, &camera(), range, |_, _| true).unwrap();
+    assert_eq!(plan.covered_share, 1.0);
+    assert!(plan.uncovered.is_empty());
+    let mut seen = vec![false; pts.len()];
+    for v in &plan.views {
+        for &k in &v.covered {
+            assert!(
+                sees(v, &camera(), range, pts[k]),
+                "point {k} is not visible from {v:?}"
+            );
+        }
+        for &k in &v.newly_covered {
+            assert!(!seen[k], "point {k} newly covered twice");
+            seen[k] = true;
+        }
+    }
+    // Greedy order: each view adds no more new points than the one before it.
+    for w in plan.views.windows(2) {
+        assert!(w[0].newly_covered.len() >= w[1].newly_covered.len());
+    }
+}
+
+#[test]
+fn points_outside_the_detection_range_of_every_pose_stay_uncovered() {
+    let pts = room_points();
+    let poses = [[0.5, 0.5, 0.0]];
+    let range = DetectionRange { min: 1.0, max: 3.0 };
+    let plan = create_view_cones(&pts, &poses, &camera(), range, |_, _| true).unwrap();
+    assert!(plan.covered_share > 0.0 && plan.covered_share < 1.0);
+    // The pan range is a full turn and the tilts span every elevation here, so a point is uncovered
+    // exactly when its distance from the camera is outside [1, 3] m.
+    for (k, p) in pts.iter().enumerate() {
+        let d =
+            ((p[0] - 0.5f64).powi(2) + (p[1] - 0.5f64).powi(2) + (p[2] - 1.2f64).powi(2)).sqrt();
+        assert_eq!(
+            plan.uncovered.contains(&k),
+            !(1.0..=3.0).contains(&d),
+            "point {k} at {d} m"
+        );
+    }
+    let expected = (plan
+        .views
+        .iter()
+        .map(|v| v.newly_covered.len())
+        .sum::<usize>()) as f64
+        / pts.len() as f64;
+    assert!((plan.covered_share - expected).abs() < 1e-12);
+}
+
+#[test]
+fn a_wall_blocking_line_of_sight_hides_the_far_half() {
+    let pts = room_points();
+    let poses = [[1.0, 2.0, 0.0]];
+    let range = DetectionRange {
+        min: 0.2,
+        max: 10.0,
+    };
+    // A wall at x = 3 blocks every ray that crosses it.
+    let los = |a: [f64; 3], b: [f64; 3]| (a[0] < 3.0) == (b[0] < 3.0);
+    let plan = create_view_cones(&pts, &poses, &camera(), range, los).unwrap();
+    for v in &plan.views {
+        assert!(v.covered.iter().all(|&k| pts[k][0] < 3.0));
+    }
+    let behind: Vec<usize> = (0..pts.len()).filter(|&k| pts[k][0] > 3.0).collect();
+    assert_eq!(plan.uncovered, behind);
+    assert!(
+        (plan.covered_share - 0.5).abs() < 1e-12,
+        "{}",
+        plan.covered_share
+    );
+}
+
+#[test]
+fn cone_priors_split_the_location_mass_without_double_counting() {
+    let pts = room_points();
+    let poses = [[1.0, 2.0, 0.0], [3.0, 2.0, 0.0], [5.0, 2.0, 0.0]];
+    let range = DetectionRange { min: 0.5, max: 4.0 };
+    let plan = create_view_cones(&pts, &poses, &camera(), range, |_, _| true).unwrap();
+    let weights = vec![1.0; pts.len()];
+    let priors = cone_priors(&plan.cone_cells(), &weights, 0.6).unwrap();
+    assert!((priors.iter().sum::<f64>() - 0.6).abs() < 1e-9);
+    for (p, v) in priors.iter().zip(&plan.views) {
+        assert!((p - 0.6 * v.newly_covered.len() as f64 / pts.len() as f64).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn bad_inputs_are_rejected_with_the_field_named() {
+    let pts = room_points();
+    let poses = [[1.0, 2.0, 0.0]];
+    let bad_range = DetectionRange { min: 3.0, max: 1.0 };
+    let e = create_view_cones(&pts, &poses, &camera(), bad_range, |_, _| true).unwrap_err();
+    assert!(e.to_string().contains("range"));
+    let nan_pose = [[f64::NAN, 0.0, 0.0]];
+    let e = create_view_cones(
+        &pts,
+        &nan_pose,
+        &camera(),
+        DetectionRange { min: 0.0, max: 1.0 },
+        |_, _| true,
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("poses"));
+    assert!(cone_priors(&[vec![99]], &[1.0], 0.5)
+        .unwrap_err()
+        .to_string()
+        .contains("cone_cells"));
+}
