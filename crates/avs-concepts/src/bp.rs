@@ -9,7 +9,7 @@
 //! * `SEQFIX` updates the messages one at a time in a fixed order (variables in order, each
 //!   variable's factors in order), always using the newest messages;
 //! * `SEQMAX` (residual BP, Elidan et al. 2006) repeatedly updates the message whose new value
-//!   differs most from its current one;
+//!   differs most from its current one (a priority queue of residuals, as libDAI's);
 //! * damping `d` replaces a message by `new^(1−d) · old^d` (geometric, as libDAI);
 //! * an iteration is one sweep (PARALL, SEQFIX) or as many single updates as there are edges
 //!   (SEQMAX); BP stops when the largest change of a variable belief (L∞) over one iteration is
@@ -397,6 +397,27 @@ impl<'g> Engine<'g> {
     }
 }
 
+/// A residual in the SEQMAX priority queue: (residual, edge, version); larger residual
+/// first, then smaller edge index (deterministic ties).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Resid(f64, usize, u64);
+
+impl Eq for Resid {}
+
+impl PartialOrd for Resid {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Resid {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0
+            .total_cmp(&other.0)
+            .then_with(|| other.1.cmp(&self.1))
+    }
+}
+
 fn odometer(state: &mut [usize], cards: &[usize]) {
     for d in 0..state.len() {
         state[d] += 1;
@@ -490,6 +511,8 @@ pub fn run_bp(
         }
     ];
     let mut resid = vec![0.0; ne];
+    let mut version = vec![0u64; ne];
+    let mut heap: std::collections::BinaryHeap<Resid> = std::collections::BinaryHeap::new();
     let mut iterations = 0;
     let mut max_diff = f64::INFINITY;
     let mut converged = false;
@@ -521,22 +544,35 @@ pub fn run_bp(
                         let (o, c) = (en.t.off[e], en.card(e));
                         en.calc(e, &msgs, &mut newm[o..o + c])?;
                         *r = en.dist(&newm[o..o + c], &msgs[o..o + c]);
+                        heap.push(Resid(*r, e, 0));
                     }
                 }
                 for _ in 0..ne {
-                    let (mut best, mut br) = (0, -1.0);
-                    for (e, r) in resid.iter().enumerate() {
-                        if *r > br {
-                            best = e;
-                            br = *r;
-                        }
+                    if heap.len() > 4 * ne + 64 {
+                        // drop the stale entries
+                        heap = resid
+                            .iter()
+                            .enumerate()
+                            .map(|(e, r)| Resid(*r, e, version[e]))
+                            .collect();
                     }
+                    // the largest current residual (stale heap entries are skipped)
+                    let best = loop {
+                        match heap.pop() {
+                            Some(Resid(_, e, v)) if v == version[e] => break Some(e),
+                            Some(_) => continue,
+                            None => break None,
+                        }
+                    };
+                    let Some(best) = best else { break };
                     let (o, c) = (en.t.off[best], en.card(best));
                     tmp[..c].copy_from_slice(&newm[o..o + c]);
                     en.damp(&mut tmp[..c], &msgs[o..o + c], opts.damping);
                     msg_change = msg_change.max(en.dist(&tmp[..c], &msgs[o..o + c]));
                     msgs[o..o + c].copy_from_slice(&tmp[..c]);
                     resid[best] = 0.0;
+                    version[best] += 1;
+                    heap.push(Resid(0.0, best, version[best]));
                     let i = en.t.edge_var[best];
                     let fi = en.t.edge_factor[best];
                     for k in 0..en.t.var_edges[i].len() {
@@ -553,6 +589,8 @@ pub fn run_bp(
                             en.calc(e2, &msgs, &mut tmp[..c2])?;
                             resid[e2] = en.dist(&tmp[..c2], &msgs[o2..o2 + c2]);
                             newm[o2..o2 + c2].copy_from_slice(&tmp[..c2]);
+                            version[e2] += 1;
+                            heap.push(Resid(resid[e2], e2, version[e2]));
                         }
                     }
                 }

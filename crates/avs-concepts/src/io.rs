@@ -15,7 +15,7 @@ use crate::GraphError;
 use std::collections::BTreeMap;
 
 /// Largest table a model file may declare (entries), to refuse absurd inputs early.
-pub const MAX_TABLE_ENTRIES: usize = 1 << 26;
+pub const MAX_TABLE_ENTRIES: usize = 1 << 24;
 
 struct Tokens<'a> {
     it: std::iter::Peekable<std::str::SplitWhitespace<'a>>,
@@ -131,7 +131,7 @@ pub fn parse_uai(text: &str, what: &str) -> Result<FactorGraph, GraphError> {
                 "factor {f} declares {k} entries; its scope needs {size}"
             )));
         }
-        let mut vals = Vec::with_capacity(size);
+        let mut vals = Vec::with_capacity(size.min(1 << 16));
         for _ in 0..size {
             vals.push(t.f64(&format!("an entry of factor {f}"))?);
         }

@@ -47,7 +47,9 @@
 //!   sequential schedule: after an event only rooms whose incoming messages changed by more than
 //!   `tol` recompute. Its default message tolerance is 1e-7 (beliefs within ~1e-6 of the fixed
 //!   point on the 100-room benchmark — far below what the planner distinguishes); it agrees
-//!   with the generic factor-graph engine and, on trees, with exact inference (tests).
+//!   with the generic factor-graph engine and, on trees, with exact inference (tests). When BP
+//!   does not converge and the junction tree is small (≤ [`map::EXACT_FALLBACK_ENTRIES`]
+//!   entries), the map answers from exact inference instead.
 //! * Loopy BP is approximate: on strongly coupled loopy models (the UAI `Grids` and `DBN`
 //!   instances) it may not converge or converge far from the exact marginals — an independent
 //!   naive implementation reproduces the same numbers (see `docs/benchmarks/concepts.md`).

@@ -419,7 +419,7 @@ impl ConceptualMap {
     }
 
     /// Soft evidence for a place property: `likelihood[v]` ∝ P(classifier output | value v).
-    /// The room's factor gains Σ_v P(v | category) · likelihood[v].
+    /// The room's factor gains `Σ_v P(v | category) · likelihood[v]`.
     pub fn observe_property_soft(
         &mut self,
         room: RoomId,

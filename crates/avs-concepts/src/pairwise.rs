@@ -132,7 +132,19 @@ impl PairwiseMrf {
 
     /// Run BP until no node is dirty or `maxiter` sweeps.
     pub fn run(&mut self, opts: &MapBpOptions) -> PairwiseRun {
-        let k = self.k;
+        // Monomorphise the common category counts (constant k lets the compiler unroll).
+        match self.k {
+            2 => self.run_k(2, opts),
+            3 => self.run_k(3, opts),
+            4 => self.run_k(4, opts),
+            5 => self.run_k(5, opts),
+            6 => self.run_k(6, opts),
+            k => self.run_k(k, opts),
+        }
+    }
+
+    #[inline(always)]
+    fn run_k(&mut self, k: usize, opts: &MapBpOptions) -> PairwiseRun {
         let mut run = PairwiseRun::default();
         let (mut p, mut h) = (vec![0.0; k], vec![0.0; k]);
         let mut new = vec![0.0; k];

@@ -101,3 +101,42 @@ fn warm_start_from_converged_messages_needs_one_iteration() {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    #[test]
+    fn model_readers_never_panic_on_arbitrary_text(text in "[ -~\n]{0,200}") {
+        let _ = avs_concepts::io::parse_uai(&text, "fuzz.uai");
+        let _ = avs_concepts::io::parse_fg(&text, "fuzz.fg");
+        let _ = avs_concepts::io::parse_uai_evidence(&text, "fuzz.evid");
+        let _ = avs_concepts::io::parse_mar(&text, "fuzz.MAR");
+    }
+
+    #[test]
+    fn model_readers_never_panic_on_number_soup(nums in prop::collection::vec(0u32..6, 0..40)) {
+        let body = nums.iter().map(|n| n.to_string()).collect::<Vec<_>>().join(" ");
+        let _ = avs_concepts::io::parse_uai(&format!("MARKOV {body}"), "fuzz.uai");
+        let _ = avs_concepts::io::parse_fg(&body, "fuzz.fg");
+        if let Ok(lg) = avs_concepts::io::parse_fg(&body, "fuzz.fg") {
+            let _ = run_bp(&lg.graph, &BpOptions { maxiter: 20, ..BpOptions::default() }, None);
+            let _ = exact_marginals(&lg.graph, 1 << 12);
+        }
+    }
+}
+
+#[test]
+fn model_readers_report_the_file_and_what_was_expected() {
+    let e = avs_concepts::io::parse_uai("MARKOV\n2\n2 2\n1\n2 0 5\n", "m.uai").unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        msg.starts_with("m.uai:") && msg.contains("variable 5"),
+        "{msg}"
+    );
+    let e = avs_concepts::io::parse_uai("MARKOV\n1\n2\n1\n1 0\n2\n0.5\n", "m.uai").unwrap_err();
+    assert!(e.to_string().contains("file ends"), "{e}");
+    let e = avs_concepts::io::parse_fg("1\n1\n0\n2\n1\n7 1.0\n", "m.fg").unwrap_err();
+    assert!(e.to_string().contains("index 7"), "{e}");
+    let e = avs_concepts::io::parse_uai("MARKOV\n1\n2\n1\n1 0\n2\n0.5 -1\n", "m.uai").unwrap_err();
+    assert!(e.to_string().contains(">= 0"), "{e}");
+}

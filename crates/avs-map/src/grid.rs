@@ -22,7 +22,7 @@ pub enum Cell {
 #[derive(Debug, thiserror::Error)]
 pub enum MapError {
     /// The descriptor or image could not be read.
-    #[error("{path}: cannot read: {source}")]
+    #[error("cannot read {path}")]
     Io {
         /// The file.
         path: PathBuf,

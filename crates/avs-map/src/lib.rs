@@ -1,9 +1,20 @@
 //! # avs-map
 //!
-//! What the robot knows of space: an occupancy grid (ROS map_server maps and ASCII grids), what a
-//! laser reveals, the place map (places, paths, placeholders on the frontier), door hypotheses
-//! and room segmentation by doors (Sjöö et al., `004_eb11ea0b2ea7be93.txt` §2), and the
-//! exploration utility of a viewpoint (Masuzawa & Miura, `001_fbcdba3c18be7464.txt` eq. 6).
+//! What the robot knows of space.
+//!
+//! * [`grid`]: occupancy grids from ROS map_server maps (through the `image` crate) and ASCII;
+//! * [`raycast`]: walking grid cells along a segment, line of sight, what a laser scan reveals;
+//! * [`nav`]: traversability for a robot radius, A* shortest paths, Dijkstra distance fields;
+//! * [`doors`]: door hypotheses — critical points of the free space's Voronoi diagram whose
+//!   opening lies in the door width range (Sjöö et al., `004_eb11ea0b2ea7be93.txt` §2; method
+//!   and choices in the module docs), and the exact clearance transform;
+//! * [`segment`]: room segmentation of a complete map by cutting doors; [`metrics`]: scoring
+//!   against ground truth (per-room and per-pixel precision / recall, MCC);
+//! * [`places`]: the place map — places, paths, confirmed doors, placeholders with their open
+//!   area and door distance, rooms as the components left when door places are cut
+//!   (Aydemir et al., `002_ff7a0884d9f6f2df.txt` §II-B);
+//! * [`explore`]: the exploration utility of a viewpoint, newly seen area / travel cost
+//!   (Masuzawa & Miura, `001_fbcdba3c18be7464.txt` eq. 6).
 //!
 //! ```
 //! use avs_map::grid::{Cell, OccupancyGrid};

@@ -2,9 +2,11 @@
 //! distance fields (Dijkstra) for costing many goals at once.
 //!
 //! Moves are 8-connected (diagonals cost √2 cells); a cell is traversable when it is free and its
-//! clearance — Euclidean distance to the nearest blocking cell — is at least the robot's radius.
+//! clearance — Euclidean distance to the nearest blocking cell, from the exact transform of
+//! [`crate::doors::ClearanceMap`] — is at least the robot's radius.
 //! Blocking cells are the occupied ones, and the unknown ones too unless the caller allows them.
 
+use crate::doors::ClearanceMap;
 use crate::grid::{Cell, OccupancyGrid};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -31,77 +33,6 @@ pub struct Traversability {
     ok: Vec<bool>,
 }
 
-/// Squared Euclidean distance transform of a boolean mask, in cells² (Felzenszwalb &
-/// Huttenlocher 2012, "Distance transforms of sampled functions", the 1-D lower-envelope pass
-/// applied to columns then rows). `blocked[i]` cells have distance 0.
-pub fn squared_distance_transform(blocked: &[bool], width: usize, height: usize) -> Vec<f64> {
-    let inf = 1e20;
-    let mut d: Vec<f64> = blocked.iter().map(|&b| if b { 0.0 } else { inf }).collect();
-    let mut f = vec![0.0; width.max(height)];
-    let mut out = vec![0.0; width.max(height)];
-    let mut v = vec![0usize; width.max(height)];
-    let mut z = vec![0.0; width.max(height) + 1];
-    // columns
-    for col in 0..width {
-        for row in 0..height {
-            f[row] = d[row * width + col];
-        }
-        edt_1d(&f[..height], &mut out[..height], &mut v, &mut z);
-        for row in 0..height {
-            d[row * width + col] = out[row];
-        }
-    }
-    // rows
-    for row in 0..height {
-        f[..width].copy_from_slice(&d[row * width..(row + 1) * width]);
-        edt_1d(&f[..width], &mut out[..width], &mut v, &mut z);
-        d[row * width..(row + 1) * width].copy_from_slice(&out[..width]);
-    }
-    d
-}
-
-fn edt_1d(f: &[f64], d: &mut [f64], v: &mut [usize], z: &mut [f64]) {
-    let n = f.len();
-    if n == 0 {
-        return;
-    }
-    let mut k = 0usize;
-    v[0] = 0;
-    z[0] = f64::NEG_INFINITY;
-    z[1] = f64::INFINITY;
-    for q in 1..n {
-        loop {
-            let p = v[k];
-            let s =
-                ((f[q] + (q * q) as f64) - (f[p] + (p * p) as f64)) / (2.0 * (q as f64 - p as f64));
-            if s <= z[k] && k > 0 {
-                k -= 1;
-                continue;
-            }
-            if s <= z[k] {
-                // k == 0: replace the first parabola.
-                v[0] = q;
-                z[0] = f64::NEG_INFINITY;
-                z[1] = f64::INFINITY;
-                break;
-            }
-            k += 1;
-            v[k] = q;
-            z[k] = s;
-            z[k + 1] = f64::INFINITY;
-            break;
-        }
-    }
-    k = 0;
-    for (q, dq) in d.iter_mut().enumerate() {
-        while z[k + 1] < q as f64 {
-            k += 1;
-        }
-        let p = v[k];
-        *dq = (q as f64 - p as f64).powi(2) + f[p];
-    }
-}
-
 impl Traversability {
     /// Traversable cells for a robot of `radius` metres; unknown cells block unless
     /// `unknown_is_free`.
@@ -112,14 +43,14 @@ impl Traversability {
             .iter()
             .map(|&c| c == Cell::Occupied || (c == Cell::Unknown && !unknown_is_free))
             .collect();
-        let d2 = squared_distance_transform(&blocked, w, h);
+        let free: Vec<bool> = blocked.iter().map(|b| !b).collect();
+        let clearance = ClearanceMap::new(w, h, &free).expect("grid dimensions are valid");
         // The transform measures centre to centre; the nearest obstacle's edge is half a cell
-        // closer. A robot of radius r fits where that clearance is at least r.
+        // closer. A robot of radius r fits where that clearance is at least r. Cells past the
+        // grid's edge count as obstacles too.
         let r_cells = radius.max(0.0) / grid.resolution();
-        let ok = blocked
-            .iter()
-            .zip(&d2)
-            .map(|(&b, &d)| !b && d.sqrt() - 0.5 >= r_cells)
+        let ok = (0..w * h)
+            .map(|i| !blocked[i] && clearance.distance(i) - 0.5 >= r_cells)
             .collect();
         Self {
             width: w,
@@ -341,24 +272,6 @@ pub fn distance_field(t: &Traversability, start: [f64; 2], snap: f64) -> Vec<f64
 mod tests {
     use super::*;
     use proptest::prelude::*;
-
-    #[test]
-    fn distance_transform_matches_brute_force() {
-        let (w, h) = (13, 9);
-        let blocked: Vec<bool> = (0..w * h).map(|i| (i * 7919) % 11 == 0).collect();
-        let d = squared_distance_transform(&blocked, w, h);
-        for (i, &di) in d.iter().enumerate() {
-            let (c, r) = ((i % w) as i64, (i / w) as i64);
-            let brute = (0..w * h)
-                .filter(|&j| blocked[j])
-                .map(|j| {
-                    let (cj, rj) = ((j % w) as i64, (j / w) as i64);
-                    ((c - cj).pow(2) + (r - rj).pow(2)) as f64
-                })
-                .fold(f64::INFINITY, f64::min);
-            assert_eq!(di, brute, "cell {c},{r}");
-        }
-    }
 
     #[test]
     fn path_goes_around_a_wall_and_respects_robot_radius() {

@@ -328,14 +328,27 @@ impl PlaceMap {
         let inside: Vec<NodeIndex> = self
             .graph
             .node_indices()
-            .filter(|&n| n != p && self.graph[n].door.is_none() && point_segment_distance(self.graph[n].pos, a, b) < 0.3)
+            .filter(|&n| {
+                n != p
+                    && self.graph[n].door.is_none()
+                    && point_segment_distance(self.graph[n].pos, a, b) < 0.3
+            })
             .collect();
         for n in inside {
             let nbrs: Vec<NodeIndex> = self.graph.neighbors(n).filter(|&m| m != p).collect();
             for m in nbrs {
                 let (pm, pp) = (self.graph[m].pos, self.graph[p].pos);
-                if self.graph.find_edge(m, p).is_none() && !self.crosses_foreign_door(pm, pp, &[m, p]) {
-                    self.graph.add_edge(m, p, PathEdge { length: dist(pm, pp), traversed: true });
+                if self.graph.find_edge(m, p).is_none()
+                    && !self.crosses_foreign_door(pm, pp, &[m, p])
+                {
+                    self.graph.add_edge(
+                        m,
+                        p,
+                        PathEdge {
+                            length: dist(pm, pp),
+                            traversed: true,
+                        },
+                    );
                 }
             }
             self.graph.remove_node(n);
@@ -372,13 +385,21 @@ impl PlaceMap {
         let (pa, pb) = (self.graph[a].pos, self.graph[b].pos);
         let via = self.doors.iter().find_map(|d| {
             let p = d.place?;
-            (d.confirmed && p != a && p != b && crosses_door_wall(&d.hypothesis, pa, pb)).then_some(p)
+            (d.confirmed && p != a && p != b && crosses_door_wall(&d.hypothesis, pa, pb))
+                .then_some(p)
         });
         if let Some(p) = via {
             for (x, y) in [(a, p), (p, b)] {
                 if self.graph.find_edge(x, y).is_none() {
                     let length = dist(self.graph[x].pos, self.graph[y].pos);
-                    self.graph.add_edge(x, y, PathEdge { length, traversed: true });
+                    self.graph.add_edge(
+                        x,
+                        y,
+                        PathEdge {
+                            length,
+                            traversed: true,
+                        },
+                    );
                 }
             }
             return;
@@ -401,16 +422,14 @@ impl PlaceMap {
 
     /// Whether the segment crosses a door opening whose door place is not one of `ends`.
     fn crosses_foreign_door(&self, a: [f64; 2], b: [f64; 2], ends: &[NodeIndex]) -> bool {
-        self.doors
-            .iter()
-            .any(|d| {
-                let crosses = if d.confirmed {
-                    crosses_door_wall(&d.hypothesis, a, b)
-                } else {
-                    d.hypothesis.crossed_by(a, b) || d.hypothesis.crossed_by(b, a)
-                };
-                crosses && !d.place.is_some_and(|p| ends.contains(&p))
-            })
+        self.doors.iter().any(|d| {
+            let crosses = if d.confirmed {
+                crosses_door_wall(&d.hypothesis, a, b)
+            } else {
+                d.hypothesis.crossed_by(a, b) || d.hypothesis.crossed_by(b, a)
+            };
+            crosses && !d.place.is_some_and(|p| ends.contains(&p))
+        })
     }
 
     fn find_placeholders(&self, known: &OccupancyGrid) -> Vec<Placeholder> {
@@ -604,7 +623,11 @@ fn crosses_door_wall(h: &DoorHypothesis, a: [f64; 2], b: [f64; 2]) -> bool {
 pub fn point_segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let len2 = dx * dx + dy * dy;
-    let t = if len2 > 0.0 { (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    let t = if len2 > 0.0 {
+        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     dist(p, [a[0] + t * dx, a[1] + t * dy])
 }
 
@@ -647,8 +670,14 @@ mod tests {
             for i in 0..n {
                 let t0 = i as f64 / n as f64;
                 let t1 = (i + 1) as f64 / n as f64;
-                let a = [w[0][0] + t0 * (w[1][0] - w[0][0]), w[0][1] + t0 * (w[1][1] - w[0][1])];
-                let b = [w[0][0] + t1 * (w[1][0] - w[0][0]), w[0][1] + t1 * (w[1][1] - w[0][1])];
+                let a = [
+                    w[0][0] + t0 * (w[1][0] - w[0][0]),
+                    w[0][1] + t0 * (w[1][1] - w[0][1]),
+                ];
+                let b = [
+                    w[0][0] + t1 * (w[1][0] - w[0][0]),
+                    w[0][1] + t1 * (w[1][1] - w[0][1]),
+                ];
                 map.robot_moved(g, a, b);
                 map.update(g);
             }
@@ -659,7 +688,11 @@ mod tests {
     fn walking_through_a_door_splits_the_places_into_two_rooms() {
         let g = two_rooms(false);
         let mut map = PlaceMap::new(PlaceMapParams::default());
-        walk(&mut map, &g, &[[1.0, 1.0], [3.5, 1.6], [5.0, 1.6], [7.5, 2.5]]);
+        walk(
+            &mut map,
+            &g,
+            &[[1.0, 1.0], [3.5, 1.6], [5.0, 1.6], [7.5, 2.5]],
+        );
         let confirmed: Vec<&MapDoor> = map.doors.iter().filter(|d| d.confirmed).collect();
         assert_eq!(confirmed.len(), 1, "doors: {:?}", map.doors);
         assert!(dist(confirmed[0].hypothesis.center, [4.3, 1.65]) < 0.3);
@@ -687,9 +720,17 @@ mod tests {
             .iter()
             .max_by(|a, b| a.open_area.total_cmp(&b.open_area))
             .expect("a placeholder at the doorway");
-        assert!(ph.pos[0] > 4.0 && ph.pos[0] < 4.5 && (1.2..2.1).contains(&ph.pos[1]), "{:?}", ph.pos);
+        assert!(
+            ph.pos[0] > 4.0 && ph.pos[0] < 4.5 && (1.2..2.1).contains(&ph.pos[1]),
+            "{:?}",
+            ph.pos
+        );
         // Behind it lies a 4.1 m × 3 m unknown room, cut at the 3 m radius.
         assert!(ph.open_area > 6.0, "open area {}", ph.open_area);
-        assert!(ph.door_distance.is_some_and(|d| d < 0.6), "{:?}", ph.door_distance);
+        assert!(
+            ph.door_distance.is_some_and(|d| d < 0.6),
+            "{:?}",
+            ph.door_distance
+        );
     }
 }

@@ -1,5 +1,7 @@
 //! Room segmentation against the IPA room segmentation benchmark's ground truth
 //! (`../shared/data/rooms`, see its README); skipped when the reference data is absent.
+//! `AVS_SEGMENT_FURNITURE=1` also scores the furniture maps (printed, no target);
+//! `AVS_SEGMENT_DEBUG=DIR` writes each segmentation as a PNG into DIR for inspection.
 
 use avs_map::grid::OccupancyGrid;
 use avs_map::metrics::{load_truth_image, score, SegmentationScore};

@@ -44,8 +44,8 @@ pub enum Heuristic {
     /// LM-cut (Helmert & Domshlak 2009): strong, a few relaxed explorations per state.
     #[default]
     LmCut,
-    /// h^max (Bonet & Geffner 2001): one relaxed exploration per state; as strong as LM-cut
-    /// where relaxed plans are chains of dependent steps (as in the object-search domain).
+    /// h^max (Bonet & Geffner 2001): one relaxed exploration per state; nearly as informed as
+    /// LM-cut where relaxed plans are chains of dependent steps (as in the object-search domain).
     HMax,
 }
 

@@ -95,6 +95,7 @@ fn scripted_replanning_first_assumption_fails_room_is_an_office_then_give_up() {
 
     // Plan 1 assumes place1 leads to a kitchen.
     let p1 = plan_of(pl.plan(&w.problem, &f).unwrap());
+    eprintln!("plan 1:\n{}", p1.listing());
     assert_eq!(p1.steps[0].display, "ASSUME-LEADS-TO-ROOM place1 kitchen");
     let move1 = p1
         .steps
@@ -114,6 +115,9 @@ fn scripted_replanning_first_assumption_fails_room_is_an_office_then_give_up() {
         &["leads-to(place1) = none", "open-placeholders(room0) = n3"],
     );
     let v1 = pl.monitor(&p1, move1 + 1, &s1, &f).unwrap();
+    if let Verdict::Replan(r) = &v1 {
+        eprintln!("replan: {r}");
+    }
     let Verdict::Replan(Replan::AssumptionContradicted {
         step,
         assumed,
@@ -129,6 +133,7 @@ fn scripted_replanning_first_assumption_fails_room_is_an_office_then_give_up() {
 
     // Plan 2 turns to the next door.
     let p2 = plan_of(pl.plan(&s1, &f).unwrap());
+    eprintln!("plan 2:\n{}", p2.listing());
     assert_eq!(p2.steps[0].display, "ASSUME-LEADS-TO-ROOM place2 kitchen");
     assert!(lines(&p2).contains(&"MOVE place2".to_string()));
     validate_steps(&pl.domain, &s1, &steps_of(&p2), &f).unwrap();
@@ -145,6 +150,9 @@ fn scripted_replanning_first_assumption_fails_room_is_an_office_then_give_up() {
         .set("robot-room = room1")
         .set("category(room1) = office");
     let v2 = pl.monitor(&p2, move2 + 1, &s2, &f).unwrap();
+    if let Verdict::Replan(r) = &v2 {
+        eprintln!("replan: {r}");
+    }
     let Verdict::Replan(Replan::AssumptionContradicted {
         assumed, actual, ..
     }) = &v2
@@ -157,6 +165,7 @@ fn scripted_replanning_first_assumption_fails_room_is_an_office_then_give_up() {
 
     // Plan 3 tries the last door.
     let p3 = plan_of(pl.plan(&s2, &f).unwrap());
+    eprintln!("plan 3:\n{}", p3.listing());
     assert_eq!(p3.steps[0].display, "ASSUME-LEADS-TO-ROOM place3 kitchen");
     validate_steps(&pl.domain, &s2, &steps_of(&p3), &f).unwrap();
 
@@ -169,6 +178,9 @@ fn scripted_replanning_first_assumption_fails_room_is_an_office_then_give_up() {
         _ => stand_in(n, a, &xy),
     };
     let v3 = pl.monitor(&p3, 0, &s2, &bleak).unwrap();
+    if let Verdict::Replan(r) = &v3 {
+        eprintln!("replan: {r}");
+    }
     assert!(
         matches!(
             v3,
@@ -177,7 +189,8 @@ fn scripted_replanning_first_assumption_fails_room_is_an_office_then_give_up() {
         "{v3:?}"
     );
     match pl.plan(&s2, &bleak).unwrap() {
-        Decision::GiveUp(GiveUp::TooUnlikely { best, threshold }) => {
+        Decision::GiveUp(g @ GiveUp::TooUnlikely { best, threshold }) => {
+            eprintln!("give up: {g}");
             assert_eq!(threshold, 0.01);
             assert!(best.is_some_and(|p| p < threshold), "{best:?}");
         }
@@ -248,4 +261,36 @@ fn missing_or_invalid_functions_are_errors_naming_the_call() {
 
 fn f_unused(_: &str, _: &[&str]) -> Option<f64> {
     Some(1.0)
+}
+
+#[test]
+fn monitor_matches_the_virtual_room_to_the_real_one_and_continues_when_assumptions_hold() {
+    let pl = planner();
+    let w = office_start(3, &LABELS, "cerealbox");
+    let f = functions(&w.xy);
+    let p1 = plan_of(pl.plan(&w.problem, &f).unwrap());
+    let move1 = p1
+        .steps
+        .iter()
+        .position(|s| s.display == "MOVE place1")
+        .unwrap();
+    // Through place1 the robot finds room1, and it is a kitchen, as assumed.
+    let s = w
+        .problem
+        .clone()
+        .object("room1", "room")
+        .set("robot-at = place1")
+        .set("robot-room = room1")
+        .set("leads-to(place1) = room1")
+        .set("category(room1) = kitchen");
+    assert_eq!(
+        pl.monitor(&p1, move1 + 1, &s, &f).unwrap(),
+        Verdict::Continue
+    );
+    // Had it been an office with no placeholders left, the category would contradict.
+    let office = s.clone().set("category(room1) = office");
+    assert!(matches!(
+        pl.monitor(&p1, move1 + 1, &office, &f).unwrap(),
+        Verdict::Replan(Replan::AssumptionContradicted { .. })
+    ));
 }

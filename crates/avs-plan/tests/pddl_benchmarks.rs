@@ -84,7 +84,7 @@ fn optimal_mode_matches_fast_downward_optimal_costs_and_plans_validate() {
 }
 
 #[test]
-#[ignore = "gripper prob04/05 take ~5 s and ~40 s of A* with LM-cut in release; run with --ignored --release"]
+#[ignore = "gripper prob04/05 take ~2 s and ~15 s of A* with LM-cut in release; run with --ignored --release"]
 fn optimal_mode_solves_large_gripper_instances() {
     let Some(dir) = avs_testdata::reference_data("pddl") else {
         return;

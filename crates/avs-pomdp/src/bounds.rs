@@ -30,6 +30,29 @@ pub(crate) struct UpperPoint {
     excess: f64,
 }
 
+impl UpperPoint {
+    /// `min_{s ∈ supp(self)} b(s) / self(s)`; zero when the support of `self` is not inside `b`'s.
+    fn ratio_at(&self, b: &[(usize, f64)]) -> f64 {
+        let mut ratio = f64::INFINITY;
+        let mut j = 0;
+        for (&(s, _), inv) in self.belief.iter().zip(&self.inverse) {
+            while j < b.len() && b[j].0 < s {
+                j += 1;
+            }
+            if j < b.len() && b[j].0 == s {
+                ratio = ratio.min(b[j].1 * inv);
+            } else {
+                return 0.0;
+            }
+        }
+        if ratio.is_finite() {
+            ratio
+        } else {
+            0.0
+        }
+    }
+}
+
 /// Lower and upper bounds on V*, both valid at every belief.
 #[derive(Debug, Clone)]
 pub struct Bounds {
@@ -186,12 +209,24 @@ impl Bounds {
                     slot.value = slot.value.min(u_best);
                     slot.excess = slot.value - vc;
                 } else {
-                    bucket.push(UpperPoint {
+                    let new = UpperPoint {
                         belief: b.to_vec(),
                         inverse: b.iter().map(|(_, p)| 1.0 / p).collect(),
                         value: u_best,
                         excess: u_best - vc,
-                    });
+                    };
+                    // Drop the points the new one makes redundant (its sawtooth face lies on or
+                    // below them), keeping the point set small.
+                    if new.excess < 0.0 {
+                        for pts in self.points.iter_mut() {
+                            pts.retain(|old| {
+                                let r = new.ratio_at(&old.belief);
+                                let vc_old = old.value - old.excess;
+                                !(r > 0.0 && vc_old + r * new.excess <= old.value)
+                            });
+                        }
+                    }
+                    self.points[b[0].0].push(new);
                 }
             }
         }

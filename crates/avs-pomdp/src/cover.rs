@@ -141,8 +141,12 @@ pub fn create_view_cones(
         ));
     }
     // Candidate views with their coverage.
-    let pans = angle_steps(c.pan_limits[0], c.pan_limits[1], c.hfov / 2.0);
-    let tilts = angle_steps(c.tilt_limits[0], c.tilt_limits[1], c.vfov / 2.0);
+    // A pan range beyond a full turn, or tilts beyond straight up/down, add no new directions.
+    let pan_hi = c.pan_limits[1].min(c.pan_limits[0] + 2.0 * PI);
+    let pans = angle_steps(c.pan_limits[0], pan_hi, c.hfov / 2.0);
+    let tilt_lo = c.tilt_limits[0].max(-PI / 2.0);
+    let tilt_hi = c.tilt_limits[1].min(PI / 2.0).max(tilt_lo);
+    let tilts = angle_steps(tilt_lo, tilt_hi, c.vfov / 2.0);
     let mut candidates: Vec<(usize, f64, f64, Vec<usize>)> = Vec::new();
     for (pi, pose) in poses.iter().enumerate() {
         let cam = [pose[0], pose[1], c.height];

@@ -34,8 +34,9 @@
 //!   uncovered cells joins "not in the location", since no observation can tell them apart. The paper's
 //!   FN/FP rates 0.2/0.05 are the defaults a caller would read from the knowledge file.
 //! * **Session.** Each `next_action()` runs RTBSS (default depth 2) on bounds refined by HSVI for a
-//!   short budget when the session starts (default 200 ms); a step guard forces a declaration after
-//!   `max_steps`. An observation the model calls impossible (e.g. a detection with FP = 0 where the
+//!   short budget when the session starts (default 30 trials — a trial budget rather than a time
+//!   budget, so decisions and plan traces do not depend on the machine); a step guard forces a
+//!   declaration after `max_steps`. An observation the model calls impossible (e.g. a detection with FP = 0 where the
 //!   belief rules the target out) is an error, not a silent reset.
 //! * **RTBSS leaves.** At depth 1 the children are leaves, so all actions are evaluated exactly
 //!   instead of being ordered by U (same value, less work); deeper, Algorithm 3.2 is followed.
@@ -83,6 +84,6 @@ pub use online::{expectimax, rtbss, OnlineDecision, OnlineOptions};
 pub use simulate::{horizon_for, simulate, SimulationSummary};
 pub use viewcone::{
     cone_priors, euclidean_travel, ConeBelief, DecisionRewards, Outcome, SessionOptions,
-    ViewConeAction, ViewConePomdp, ViewConeProblem, ViewConeSession, PAPER_FALSE_NEGATIVE,
-    PAPER_FALSE_POSITIVE,
+    ViewConeAction, ViewConePomdp, ViewConeProblem, ViewConeSession, MAX_CONES,
+    PAPER_FALSE_NEGATIVE, PAPER_FALSE_POSITIVE,
 };

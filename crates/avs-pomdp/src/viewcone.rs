@@ -25,6 +25,10 @@ pub const PAPER_FALSE_NEGATIVE: f64 = 0.2;
 /// The paper's false-positive rate (`002` §IV).
 pub const PAPER_FALSE_POSITIVE: f64 = 0.05;
 
+/// Largest number of cones a view-cone POMDP may have: the product state space grows as (n+1)², and
+/// a location needing more cones should be split (or its cones merged) before a DT session.
+pub const MAX_CONES: usize = 100;
+
 /// Rewards of the declarations (in the same unit as travel and processing costs).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct DecisionRewards {
@@ -199,8 +203,11 @@ impl ViewConePomdp {
         let n = p.cone_prior.len();
         let bad =
             |field: &'static str, message: String| PomdpError::InvalidInput { field, message };
-        if n == 0 {
-            return Err(bad("cone_prior", "needs at least one cone".into()));
+        if n == 0 || n > MAX_CONES {
+            return Err(bad(
+                "cone_prior",
+                format!("needs between 1 and {MAX_CONES} cones, got {n}"),
+            ));
         }
         let prior_sum: f64 = p.cone_prior.iter().sum();
         if p.cone_prior.iter().any(|x| !x.is_finite() || *x < 0.0) || prior_sum > 1.0 + 1e-9 {
@@ -394,10 +401,12 @@ pub struct SessionOptions {
 impl Default for SessionOptions {
     fn default() -> Self {
         Self {
+            // A trial budget, not a time budget, so that a session's decisions (and the plan traces
+            // built from them) are the same on every machine.
             offline: OfflineOptions {
                 target_gap: 1e-3,
-                time_limit: Some(std::time::Duration::from_millis(200)),
-                max_trials: 10_000,
+                time_limit: None,
+                max_trials: 30,
                 init_iterations: 500,
             },
             online: OnlineOptions::default(),

@@ -157,3 +157,18 @@ fn bad_inputs_are_rejected_with_the_field_named() {
         .to_string()
         .contains("cone_cells"));
 }
+
+#[test]
+fn absurd_pan_and_tilt_limits_are_clamped_not_enumerated() {
+    let pts = room_points();
+    let poses = [[3.0, 2.0, 0.0]];
+    let mut cam = camera();
+    cam.pan_limits = [-1e9, 1e9];
+    cam.tilt_limits = [-1e9, 1e9];
+    let range = DetectionRange {
+        min: 0.1,
+        max: 10.0,
+    };
+    let plan = create_view_cones(&pts, &poses, &cam, range, |_, _| true).unwrap();
+    assert_eq!(plan.covered_share, 1.0);
+}

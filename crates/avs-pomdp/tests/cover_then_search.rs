@@ -1,5 +1,7 @@
 //! CREATEVIEWCONES feeding the view-cone session: the path SEARCHFOROBJECT takes.
 
+use std::f64::consts::{FRAC_PI_2, PI};
+
 use avs_pomdp::{
     cone_priors, create_view_cones, euclidean_travel, CameraModel, DecisionRewards, DetectionRange,
     OfflineOptions, OnlineOptions, Outcome, SessionOptions, ViewConeAction, ViewConeProblem,
@@ -15,7 +17,7 @@ fn cones_planned_for_a_room_lead_a_perfect_sensor_to_the_target_cell() {
             cells.push([0.25 + 0.5 * i as f64, 0.25 + 0.5 * j as f64, 0.8]);
         }
     }
-    let poses = [[-0.5, 1.5, 0.0], [2.0, -0.5, 1.57], [4.5, 1.5, 3.14]];
+    let poses = [[-0.5, 1.5, 0.0], [2.0, -0.5, FRAC_PI_2], [4.5, 1.5, PI]];
     let camera = CameraModel {
         hfov: 1.0,
         vfov: 0.8,

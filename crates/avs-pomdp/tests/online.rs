@@ -80,6 +80,10 @@ fn check_agreement(p: &ViewConeProblem, depth: usize, gap: f64) {
 fn online_and_offline_agree_with_expectimax_to_depth_6_on_two_cones() {
     check_agreement(&problem(vec![0.5, 0.3], 1.0), 6, 1e-4);
     check_agreement(&problem(vec![0.2, 0.1], 2.0), 6, 1e-4);
+    let mut noisy = problem(vec![0.4, 0.4], 0.3);
+    noisy.false_negative = 0.35;
+    noisy.false_positive = 0.15;
+    check_agreement(&noisy, 6, 0.05);
 }
 
 #[test]

@@ -12,8 +12,8 @@
 //! `object_rates`. Placements that do not fit are dropped, never forced.
 
 use avs_format::environment::{
-    AsciiMap, Camera, Door, Environment, EnvironmentKind, Laser, MapSource, Object, ObjectRole, Point, Pose, Robot,
-    Room,
+    AsciiMap, Camera, Door, Environment, EnvironmentKind, Laser, MapSource, Object, ObjectRole,
+    Point, Pose, Robot, Room,
 };
 use avs_format::knowledge::{Knowledge, Relation};
 use rand::distributions::{Distribution, WeightedIndex};
@@ -60,7 +60,10 @@ fn poisson(rng: &mut ChaCha8Rng, lambda: f64) -> usize {
 }
 
 /// Generate an office-like floor.
-pub fn generate(knowledge: &Knowledge, params: &GenerateParams) -> Result<Environment, GenerateError> {
+pub fn generate(
+    knowledge: &Knowledge,
+    params: &GenerateParams,
+) -> Result<Environment, GenerateError> {
     if params.rooms == 0 || params.rooms > 40 {
         return Err(GenerateError::Invalid(format!(
             "--rooms {}: expected between 1 and 40 rooms",
@@ -69,7 +72,9 @@ pub fn generate(knowledge: &Knowledge, params: &GenerateParams) -> Result<Enviro
     }
     let cats = &knowledge.room_categories;
     let corridor_cat = cats.iter().position(|c| c == "corridor");
-    let room_cats: Vec<usize> = (0..cats.len()).filter(|&i| Some(i) != corridor_cat).collect();
+    let room_cats: Vec<usize> = (0..cats.len())
+        .filter(|&i| Some(i) != corridor_cat)
+        .collect();
     if room_cats.is_empty() {
         return Err(GenerateError::Invalid(
             "the knowledge file has no room category besides `corridor`".into(),
@@ -78,14 +83,23 @@ pub fn generate(knowledge: &Knowledge, params: &GenerateParams) -> Result<Enviro
     let mut rng = ChaCha8Rng::seed_from_u64(params.seed);
     let prior: Vec<f64> = room_cats
         .iter()
-        .map(|&i| knowledge.category_prior.as_ref().map_or(1.0, |p| p[i]).max(1e-9))
+        .map(|&i| {
+            knowledge
+                .category_prior
+                .as_ref()
+                .map_or(1.0, |p| p[i])
+                .max(1e-9)
+        })
         .collect();
-    let cat_dist = WeightedIndex::new(&prior).map_err(|e| GenerateError::Invalid(format!("category prior: {e}")))?;
+    let cat_dist = WeightedIndex::new(&prior)
+        .map_err(|e| GenerateError::Invalid(format!("category prior: {e}")))?;
 
     // Layout in cells: rooms above (top row) and below (bottom row) the corridor.
     let n_top = params.rooms.div_ceil(2);
     let n_bot = params.rooms - n_top;
-    let widths = |n: usize, rng: &mut ChaCha8Rng| -> Vec<usize> { (0..n).map(|_| rng.gen_range(30..=50)).collect() };
+    let widths = |n: usize, rng: &mut ChaCha8Rng| -> Vec<usize> {
+        (0..n).map(|_| rng.gen_range(30..=50)).collect()
+    };
     let mut top = widths(n_top, &mut rng);
     let mut bot = widths(n_bot, &mut rng);
     let inner = |w: &[usize]| w.iter().sum::<usize>() + WALL * w.len().saturating_sub(1);
@@ -100,7 +114,8 @@ pub fn generate(knowledge: &Knowledge, params: &GenerateParams) -> Result<Enviro
     let depth_bot = if n_bot > 0 { rng.gen_range(35..=50) } else { 0 };
     let corr = rng.gen_range(20..=26);
     let width = span + 2 * WALL;
-    let height = WALL + if n_bot > 0 { depth_bot + WALL } else { 0 } + corr + WALL + depth_top + WALL;
+    let height =
+        WALL + if n_bot > 0 { depth_bot + WALL } else { 0 } + corr + WALL + depth_top + WALL;
     let mut grid = vec![vec![b'.'; width]; height]; // grid[row][col], row 0 at the bottom
     let mut wall = |c0: usize, c1: usize, r0: usize, r1: usize, ch: u8| {
         for row in grid.iter_mut().take(r1 + 1).skip(r0) {
@@ -119,7 +134,10 @@ pub fn generate(knowledge: &Knowledge, params: &GenerateParams) -> Result<Enviro
     let mut rooms = vec![Room {
         name: "corridor1".into(),
         category: corridor_cat.map_or_else(|| cats[room_cats[0]].clone(), |i| cats[i].clone()),
-        seed: Some(Point { x: to_m(WALL) + 0.5, y: to_m(corr_r0 + corr / 2) }),
+        seed: Some(Point {
+            x: to_m(WALL) + 0.5,
+            y: to_m(corr_r0 + corr / 2),
+        }),
         polygon: None,
     }];
     let mut doors = Vec::new();
@@ -154,16 +172,29 @@ pub fn generate(knowledge: &Knowledge, params: &GenerateParams) -> Result<Enviro
             let k = rooms.len();
             let name = format!("room{k}");
             let cat = cats[room_cats[cat_dist.sample(&mut rng)]].clone();
-            let rect = Rect { x0: to_m(c0), y0: to_m(r0), x1: to_m(c1 + 1), y1: to_m(r1 + 1) };
+            let rect = Rect {
+                x0: to_m(c0),
+                y0: to_m(r0),
+                x1: to_m(c1 + 1),
+                y1: to_m(r1 + 1),
+            };
             rooms.push(Room {
                 name: name.clone(),
                 category: cat,
-                seed: Some(Point { x: (rect.x0 + rect.x1) / 2.0, y: (rect.y0 + rect.y1) / 2.0 }),
+                seed: Some(Point {
+                    x: (rect.x0 + rect.x1) / 2.0,
+                    y: (rect.y0 + rect.y1) / 2.0,
+                }),
                 polygon: None,
             });
             doors.push(Door {
                 name: format!("door{k}"),
-                pose: Pose { x: to_m(d0) + to_m(dw_cells) / 2.0, y: to_m(wr0 + WALL / 2), z: 0.0, yaw_deg: 90.0 },
+                pose: Pose {
+                    x: to_m(d0) + to_m(dw_cells) / 2.0,
+                    y: to_m(wr0 + WALL / 2),
+                    z: 0.0,
+                    yaw_deg: 90.0,
+                },
                 width: to_m(dw_cells),
                 open: true,
                 rooms: vec!["corridor1".into(), name],
@@ -181,12 +212,21 @@ pub fn generate(knowledge: &Knowledge, params: &GenerateParams) -> Result<Enviro
         *n += 1;
         format!("{class}{n}")
     };
-    let cat_index = |name: &str| cats.iter().position(|c| c == name).expect("generated from the list");
+    let cat_index = |name: &str| {
+        cats.iter()
+            .position(|c| c == name)
+            .expect("generated from the list")
+    };
     for &(k, rect, is_top) in &rects {
         let c = cat_index(&rooms[k].category);
         let door_x = doors[k - 1].pose.x;
         let door_y = if is_top { rect.y0 } else { rect.y1 };
-        let mut footprints: Vec<Rect> = vec![Rect { x0: door_x - 1.0, y0: door_y - 1.2, x1: door_x + 1.0, y1: door_y + 1.2 }];
+        let mut footprints: Vec<Rect> = vec![Rect {
+            x0: door_x - 1.0,
+            y0: door_y - 1.2,
+            x1: door_x + 1.0,
+            y1: door_y + 1.2,
+        }];
         let mut landmarks_here = Vec::new();
         for cls in knowledge.object_classes.iter().filter(|o| o.landmark) {
             let lambda = knowledge.object_rates.get(&cls.name).map_or(0.0, |r| r[c]);
@@ -198,7 +238,12 @@ pub fn generate(knowledge: &Knowledge, params: &GenerateParams) -> Result<Enviro
                         id: id.clone(),
                         class: cls.name.clone(),
                         role: ObjectRole::Landmark,
-                        pose: Pose { x: (fp.x0 + fp.x1) / 2.0, y: (fp.y0 + fp.y1) / 2.0, z: 0.0, yaw_deg: 0.0 },
+                        pose: Pose {
+                            x: (fp.x0 + fp.x1) / 2.0,
+                            y: (fp.y0 + fp.y1) / 2.0,
+                            z: 0.0,
+                            yaw_deg: 0.0,
+                        },
                         size: cls.size,
                         room: rooms[k].name.clone(),
                         on: None,
@@ -210,10 +255,22 @@ pub fn generate(knowledge: &Knowledge, params: &GenerateParams) -> Result<Enviro
         }
         for &li in &landmarks_here {
             let lm = objects[li].clone();
-            for lr in knowledge.landmark_rates.iter().filter(|r| r.landmark == lm.class) {
-                let Some(cls) = knowledge.class(&lr.object) else { continue };
+            for lr in knowledge
+                .landmark_rates
+                .iter()
+                .filter(|r| r.landmark == lm.class)
+            {
+                let Some(cls) = knowledge.class(&lr.object) else {
+                    continue;
+                };
                 for _ in 0..poisson(&mut rng, lr.rates[c]).min(3) {
-                    objects.push(object_on(&mut rng, &lm, cls, lr.relation, new_id(&cls.name)));
+                    objects.push(object_on(
+                        &mut rng,
+                        &lm,
+                        cls,
+                        lr.relation,
+                        new_id(&cls.name),
+                    ));
                 }
             }
         }
@@ -225,7 +282,12 @@ pub fn generate(knowledge: &Knowledge, params: &GenerateParams) -> Result<Enviro
                         id: new_id(&cls.name),
                         class: cls.name.clone(),
                         role: ObjectRole::Target,
-                        pose: Pose { x: (fp.x0 + fp.x1) / 2.0, y: (fp.y0 + fp.y1) / 2.0, z: 0.0, yaw_deg: 0.0 },
+                        pose: Pose {
+                            x: (fp.x0 + fp.x1) / 2.0,
+                            y: (fp.y0 + fp.y1) / 2.0,
+                            z: 0.0,
+                            yaw_deg: 0.0,
+                        },
                         size: cls.size,
                         room: rooms[k].name.clone(),
                         on: None,
@@ -242,9 +304,23 @@ pub fn generate(knowledge: &Knowledge, params: &GenerateParams) -> Result<Enviro
         if !objects.iter().any(|o| &o.class == target) {
             // Weighted draw over (landmark instance, rate) pairs, else a floor spot in a room.
             let mut options: Vec<(usize, Relation, f64)> = Vec::new();
-            for (i, o) in objects.iter().enumerate().filter(|(_, o)| o.role == ObjectRole::Landmark) {
-                let c = cat_index(&rooms.iter().find(|r| r.name == o.room).expect("own room").category);
-                for lr in knowledge.landmark_rates.iter().filter(|r| &r.object == target && r.landmark == o.class) {
+            for (i, o) in objects
+                .iter()
+                .enumerate()
+                .filter(|(_, o)| o.role == ObjectRole::Landmark)
+            {
+                let c = cat_index(
+                    &rooms
+                        .iter()
+                        .find(|r| r.name == o.room)
+                        .expect("own room")
+                        .category,
+                );
+                for lr in knowledge
+                    .landmark_rates
+                    .iter()
+                    .filter(|r| &r.object == target && r.landmark == o.class)
+                {
                     options.push((i, lr.relation, lr.rates[c].max(0.0)));
                 }
             }
@@ -261,7 +337,12 @@ pub fn generate(knowledge: &Knowledge, params: &GenerateParams) -> Result<Enviro
                     id: new_id(&cls.name),
                     class: cls.name.clone(),
                     role: ObjectRole::Target,
-                    pose: Pose { x: (fp.x0 + fp.x1) / 2.0, y: (fp.y0 + fp.y1) / 2.0, z: 0.0, yaw_deg: 0.0 },
+                    pose: Pose {
+                        x: (fp.x0 + fp.x1) / 2.0,
+                        y: (fp.y0 + fp.y1) / 2.0,
+                        z: 0.0,
+                        yaw_deg: 0.0,
+                    },
                     size: cls.size,
                     room: rooms[k].name.clone(),
                     on: None,
@@ -279,16 +360,29 @@ pub fn generate(knowledge: &Knowledge, params: &GenerateParams) -> Result<Enviro
     Ok(Environment {
         kind: EnvironmentKind::Environment,
         name: format!("generated-{}-{}", params.seed, params.rooms),
-        map: MapSource::Ascii(AsciiMap { ascii, resolution: RES, origin: [0.0, 0.0] }),
+        map: MapSource::Ascii(AsciiMap {
+            ascii,
+            resolution: RES,
+            origin: [0.0, 0.0],
+        }),
         rooms,
         doors,
         objects,
         robot: Robot {
-            start: Pose { x: to_m(WALL) + 0.6, y: to_m(corr_r0) + to_m(corr) / 2.0, z: 0.0, yaw_deg: 0.0 },
+            start: Pose {
+                x: to_m(WALL) + 0.6,
+                y: to_m(corr_r0) + to_m(corr) / 2.0,
+                z: 0.0,
+                yaw_deg: 0.0,
+            },
             radius: 0.25,
             speed: 0.5,
         },
-        laser: Laser { range: 8.0, fov_deg: 270.0, beams: 541 },
+        laser: Laser {
+            range: 8.0,
+            fov_deg: 270.0,
+            beams: 541,
+        },
         camera: Camera::default(),
     })
 }
@@ -300,7 +394,10 @@ fn object_on(
     relation: Relation,
     id: String,
 ) -> Object {
-    let (hx, hy) = ((lm.size[0] - cls.size[0]).max(0.0) / 2.0, (lm.size[1] - cls.size[1]).max(0.0) / 2.0);
+    let (hx, hy) = (
+        (lm.size[0] - cls.size[0]).max(0.0) / 2.0,
+        (lm.size[1] - cls.size[1]).max(0.0) / 2.0,
+    );
     let z = match relation {
         Relation::On => lm.size[2],
         Relation::In => lm.size[2] / 2.0,
@@ -309,7 +406,12 @@ fn object_on(
         id,
         class: cls.name.clone(),
         role: ObjectRole::Target,
-        pose: Pose { x: lm.pose.x + rng.gen_range(-hx..=hx), y: lm.pose.y + rng.gen_range(-hy..=hy), z, yaw_deg: 0.0 },
+        pose: Pose {
+            x: lm.pose.x + rng.gen_range(-hx..=hx),
+            y: lm.pose.y + rng.gen_range(-hy..=hy),
+            z,
+            yaw_deg: 0.0,
+        },
         size: cls.size,
         room: lm.room.clone(),
         on: (relation == Relation::On).then(|| lm.id.clone()),
@@ -319,15 +421,39 @@ fn object_on(
 
 /// A footprint for a piece of furniture: against a random wall of the room (half the time, when it
 /// fits), else free-standing with 1.3 m clearance to walls and other furniture.
-fn place_furniture(rng: &mut ChaCha8Rng, room: Rect, size: [f64; 3], taken: &[Rect]) -> Option<Rect> {
+fn place_furniture(
+    rng: &mut ChaCha8Rng,
+    room: Rect,
+    size: [f64; 3],
+    taken: &[Rect],
+) -> Option<Rect> {
     if rng.gen_bool(0.5) {
         let (w, d) = (size[0], size[1]);
         for _ in 0..30 {
             // Along the bottom or top wall, 5 cm off it.
-            let x = rng.gen_range((room.x0 + w / 2.0 + 0.05)..=(room.x1 - w / 2.0 - 0.05).max(room.x0 + w / 2.0 + 0.05));
-            let y = if rng.gen_bool(0.5) { room.y0 + 0.05 + d / 2.0 } else { room.y1 - 0.05 - d / 2.0 };
-            let r = Rect { x0: x - w / 2.0, y0: y - d / 2.0, x1: x + w / 2.0, y1: y + d / 2.0 };
-            if r.x1 <= room.x1 && taken.iter().all(|t| r.x1 + 1.3 <= t.x0 || t.x1 + 1.3 <= r.x0 || r.y1 + 1.3 <= t.y0 || t.y1 + 1.3 <= r.y0) {
+            let x = rng.gen_range(
+                (room.x0 + w / 2.0 + 0.05)
+                    ..=(room.x1 - w / 2.0 - 0.05).max(room.x0 + w / 2.0 + 0.05),
+            );
+            let y = if rng.gen_bool(0.5) {
+                room.y0 + 0.05 + d / 2.0
+            } else {
+                room.y1 - 0.05 - d / 2.0
+            };
+            let r = Rect {
+                x0: x - w / 2.0,
+                y0: y - d / 2.0,
+                x1: x + w / 2.0,
+                y1: y + d / 2.0,
+            };
+            if r.x1 <= room.x1
+                && taken.iter().all(|t| {
+                    r.x1 + 1.3 <= t.x0
+                        || t.x1 + 1.3 <= r.x0
+                        || r.y1 + 1.3 <= t.y0
+                        || t.y1 + 1.3 <= r.y0
+                })
+            {
                 return Some(r);
             }
         }
@@ -337,7 +463,13 @@ fn place_furniture(rng: &mut ChaCha8Rng, room: Rect, size: [f64; 3], taken: &[Re
 
 /// A free axis-aligned footprint for a box of `size` in `room`, at least `margin` metres from the
 /// walls and from the `taken` footprints (so the robot can walk around it); 30 tries.
-fn place_box(rng: &mut ChaCha8Rng, room: Rect, size: [f64; 3], taken: &[Rect], margin: f64) -> Option<Rect> {
+fn place_box(
+    rng: &mut ChaCha8Rng,
+    room: Rect,
+    size: [f64; 3],
+    taken: &[Rect],
+    margin: f64,
+) -> Option<Rect> {
     let (w, d) = (size[0], size[1]);
     for _ in 0..30 {
         let (lo_x, hi_x) = (room.x0 + margin + w / 2.0, room.x1 - margin - w / 2.0);
@@ -346,9 +478,17 @@ fn place_box(rng: &mut ChaCha8Rng, room: Rect, size: [f64; 3], taken: &[Rect], m
             return None;
         }
         let (x, y) = (rng.gen_range(lo_x..=hi_x), rng.gen_range(lo_y..=hi_y));
-        let r = Rect { x0: x - w / 2.0, y0: y - d / 2.0, x1: x + w / 2.0, y1: y + d / 2.0 };
+        let r = Rect {
+            x0: x - w / 2.0,
+            y0: y - d / 2.0,
+            x1: x + w / 2.0,
+            y1: y + d / 2.0,
+        };
         let clear = taken.iter().all(|t| {
-            r.x1 + margin <= t.x0 || t.x1 + margin <= r.x0 || r.y1 + margin <= t.y0 || t.y1 + margin <= r.y0
+            r.x1 + margin <= t.x0
+                || t.x1 + margin <= r.x0
+                || r.y1 + margin <= t.y0
+                || t.y1 + margin <= r.y0
         });
         if clear {
             return Some(r);

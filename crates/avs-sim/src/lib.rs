@@ -32,6 +32,8 @@ pub mod explore;
 pub mod generate;
 pub mod render;
 pub mod robot;
+pub mod sensors;
+pub mod sim_robot;
 pub mod world;
 
 pub use explore::Explorer;

@@ -13,7 +13,8 @@ use svg::Document;
 const SCALE: f64 = 50.0;
 
 const PALETTE: [&str; 10] = [
-    "#8dd3c7", "#ffffb3", "#bebada", "#fb8072", "#80b1d3", "#fdb462", "#b3de69", "#fccde5", "#bc80bd", "#ccebc5",
+    "#8dd3c7", "#ffffb3", "#bebada", "#fb8072", "#80b1d3", "#fdb462", "#b3de69", "#fccde5",
+    "#bc80bd", "#ccebc5",
 ];
 
 struct Frame {
@@ -38,7 +39,11 @@ impl Frame {
 
 /// Draw the grid as horizontal runs of equal colour; `colour(col, row)` names each cell's fill
 /// (`None` leaves the background).
-fn grid_runs(g: &OccupancyGrid, f: &Frame, colour: impl Fn(usize, usize) -> Option<&'static str>) -> Group {
+fn grid_runs(
+    g: &OccupancyGrid,
+    f: &Frame,
+    colour: impl Fn(usize, usize) -> Option<&'static str>,
+) -> Group {
     let mut group = Group::new().set("shape-rendering", "crispEdges");
     let r = g.resolution();
     for row in 0..g.height() {
@@ -81,7 +86,12 @@ fn document(g: &OccupancyGrid, title: &str) -> Document {
         .set("width", w)
         .set("height", h)
         .add(Title::new(title))
-        .add(Rectangle::new().set("width", w).set("height", h).set("fill", "white"))
+        .add(
+            Rectangle::new()
+                .set("width", w)
+                .set("height", h)
+                .set("fill", "white"),
+        )
 }
 
 fn objects_and_robot(world: &World, f: &Frame, robot: [f64; 3]) -> Group {
@@ -101,7 +111,10 @@ fn objects_and_robot(world: &World, f: &Frame, robot: [f64; 3]) -> Group {
                 .set("height", (o.size[1] * SCALE).max(4.0))
                 .set("fill", fill)
                 .set("stroke", stroke)
-                .set("transform", format!("rotate({} {} {})", -yaw, f.x(o.pose.x), f.y(o.pose.y)))
+                .set(
+                    "transform",
+                    format!("rotate({} {} {})", -yaw, f.x(o.pose.x), f.y(o.pose.y)),
+                )
                 .add(Title::new(format!("{} ({})", o.id, o.class))),
         );
         if o.role != ObjectRole::Landmark {
@@ -116,16 +129,23 @@ fn objects_and_robot(world: &World, f: &Frame, robot: [f64; 3]) -> Group {
     }
     let (x, y) = (f.x(robot[0]), f.y(robot[1]));
     let r = world.env.robot.radius * SCALE;
-    g.add(Circle::new().set("cx", x).set("cy", y).set("r", r).set("fill", "#1f77b4").set("fill-opacity", 0.6))
-        .add(
-            Line::new()
-                .set("x1", x)
-                .set("y1", y)
-                .set("x2", x + r * robot[2].cos())
-                .set("y2", y - r * robot[2].sin())
-                .set("stroke", "black")
-                .set("stroke-width", 2),
-        )
+    g.add(
+        Circle::new()
+            .set("cx", x)
+            .set("cy", y)
+            .set("r", r)
+            .set("fill", "#1f77b4")
+            .set("fill-opacity", 0.6),
+    )
+    .add(
+        Line::new()
+            .set("x1", x)
+            .set("y1", y)
+            .set("x2", x + r * robot[2].cos())
+            .set("y2", y - r * robot[2].sin())
+            .set("stroke", "black")
+            .set("stroke-width", 2),
+    )
 }
 
 /// The fully known world: walls, ground-truth rooms coloured, doors, objects, the robot's start.
@@ -148,7 +168,11 @@ pub fn render_world(world: &World) -> String {
                 .set("y2", f.y(d.pose.y + uy))
                 .set("stroke", if d.open { "#2b8cbe" } else { "#e6550d" })
                 .set("stroke-width", 4)
-                .add(Title::new(format!("{} ({})", d.name, if d.open { "open" } else { "closed" }))),
+                .add(Title::new(format!(
+                    "{} ({})",
+                    d.name,
+                    if d.open { "open" } else { "closed" }
+                ))),
         );
     }
     let mut labels = Group::new();
@@ -168,7 +192,11 @@ pub fn render_world(world: &World) -> String {
     document(g, &world.env.name)
         .add(rooms)
         .add(doors)
-        .add(objects_and_robot(world, &f, [s.x, s.y, s.yaw_deg.to_radians()]))
+        .add(objects_and_robot(
+            world,
+            &f,
+            [s.x, s.y, s.yaw_deg.to_radians()],
+        ))
         .add(labels)
         .to_string()
 }
@@ -182,7 +210,8 @@ pub fn render_exploration(ex: &Explorer) -> String {
     let f = Frame::new(known);
     let map = &ex.places;
     let rooms = map.rooms();
-    let room_of_node: Vec<Option<usize>> = map.graph.node_indices().map(|n| rooms.room_of(n)).collect();
+    let room_of_node: Vec<Option<usize>> =
+        map.graph.node_indices().map(|n| rooms.room_of(n)).collect();
     let nearest_room = |c: usize, r: usize| -> Option<&'static str> {
         let (x, y) = known.cell_center(c as i64, r as i64);
         let n = nearest_within(map, [x, y], 1.2)?;
@@ -254,15 +283,19 @@ pub fn render_exploration(ex: &Explorer) -> String {
                 .add(Title::new(format!(
                     "placeholder {i}: open area {:.1} m², door {}",
                     ph.open_area,
-                    ph.door_distance.map_or("none".into(), |d| format!("{d:.1} m"))
+                    ph.door_distance
+                        .map_or("none".into(), |d| format!("{d:.1} m"))
                 ))),
         );
     }
-    document(known, &format!("{} after {} exploration steps", world.env.name, ex.steps))
-        .add(cells)
-        .add(graph)
-        .add(objects_and_robot(world, &f, ex.robot.pose))
-        .to_string()
+    document(
+        known,
+        &format!("{} after {} exploration steps", world.env.name, ex.steps),
+    )
+    .add(cells)
+    .add(graph)
+    .add(objects_and_robot(world, &f, ex.robot.pose))
+    .to_string()
 }
 
 fn nearest_within(map: &PlaceMap, p: [f64; 2], max: f64) -> Option<usize> {

@@ -76,8 +76,14 @@ impl<'w> SimRobot<'w> {
 
     /// The world the robot lives in (for the simulator's own bookkeeping only: an agent must
     /// never read it).
-    pub fn world(&self) -> &World {
+    pub fn world(&self) -> &'w World {
         self.world
+    }
+
+    /// The shortest collision-free path from the robot to `goal` in the true world (goal and
+    /// start snap to free cells within 0.5 m), as [`Self::move_to`] would drive it.
+    pub fn path_to(&self, goal: [f64; 2]) -> Option<avs_map::nav::GridPath> {
+        shortest_path(&self.truth_nav, [self.pose[0], self.pose[1]], goal, 0.5)
     }
 
     /// Take a laser scan from the current pose; returns how many cells became known.
@@ -98,7 +104,7 @@ impl<'w> SimRobot<'w> {
     /// planner would find), scanning every [`SCAN_EVERY`] metres.
     pub fn move_to(&mut self, goal: [f64; 2]) -> Motion {
         let start = [self.pose[0], self.pose[1]];
-        let Some(path) = shortest_path(&self.truth_nav, start, goal, 0.5) else {
+        let Some(path) = self.path_to(goal) else {
             return Motion {
                 waypoints: vec![start],
                 length: 0.0,

@@ -218,7 +218,10 @@ pub fn door_cells(grid: &OccupancyGrid, d: &avs_format::environment::Door) -> Ve
     for (col, row) in line {
         let (x, y) = grid.cell_center(col, row);
         for s in [-1.0, 0.0, 1.0] {
-            let (cc, rr) = grid.world_to_cell(x + px * s * grid.resolution(), y + py * s * grid.resolution());
+            let (cc, rr) = grid.world_to_cell(
+                x + px * s * grid.resolution(),
+                y + py * s * grid.resolution(),
+            );
             if grid.contains(cc, rr) {
                 out.push((cc as usize, rr as usize));
             }
@@ -247,7 +250,10 @@ pub fn rasterise_box(grid: &mut OccupancyGrid, o: &Object, c: Cell) {
     let (c0, r0) = grid.world_to_cell(o.pose.x - rad, o.pose.y - rad);
     let (c1, r1) = grid.world_to_cell(o.pose.x + rad, o.pose.y + rad);
     let (c0, r0) = (c0.max(0), r0.max(0));
-    let (c1, r1) = (c1.min(grid.width() as i64 - 1), r1.min(grid.height() as i64 - 1));
+    let (c1, r1) = (
+        c1.min(grid.width() as i64 - 1),
+        r1.min(grid.height() as i64 - 1),
+    );
     for row in r0..=r1 {
         for col in c0..=c1 {
             let (x, y) = grid.cell_center(col, row);

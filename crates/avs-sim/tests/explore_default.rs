@@ -100,13 +100,19 @@ fn exploring_the_default_office_reveals_its_space_doors_and_rooms() {
 
 #[test]
 fn exploring_generated_floors_never_merges_rooms_and_finds_most() {
-    let k: avs_format::knowledge::Knowledge =
-        avs_format::load_yaml(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../knowledge/office.yaml")).unwrap();
+    let k: avs_format::knowledge::Knowledge = avs_format::load_yaml(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../../knowledge/office.yaml"),
+    )
+    .unwrap();
     let (mut found, mut total) = (0usize, 0usize);
     for seed in 0..8u64 {
         let env = avs_sim::generate::generate(
             &k,
-            &avs_sim::generate::GenerateParams { seed, rooms: 4, ensure_class: None },
+            &avs_sim::generate::GenerateParams {
+                seed,
+                rooms: 4,
+                ensure_class: None,
+            },
         )
         .unwrap();
         let world = World::new(env, Path::new(".")).unwrap();
@@ -118,12 +124,23 @@ fn exploring_generated_floors_never_merges_rooms_and_finds_most() {
             let truth: BTreeSet<usize> = r
                 .places
                 .iter()
-                .filter_map(|&p| world.room_at(ex.places.graph[p].pos[0], ex.places.graph[p].pos[1]))
+                .filter_map(|&p| {
+                    world.room_at(ex.places.graph[p].pos[0], ex.places.graph[p].pos[1])
+                })
                 .collect();
-            assert_eq!(truth.len(), 1, "seed {seed}: place-map room {} spans true rooms {truth:?}", r.id);
+            assert_eq!(
+                truth.len(),
+                1,
+                "seed {seed}: place-map room {} spans true rooms {truth:?}",
+                r.id
+            );
             matched.extend(truth);
         }
-        eprintln!("seed {seed}: {} of {} rooms found as separate rooms", matched.len(), world.env.rooms.len());
+        eprintln!(
+            "seed {seed}: {} of {} rooms found as separate rooms",
+            matched.len(),
+            world.env.rooms.len()
+        );
         found += matched.len();
         total += world.env.rooms.len();
     }
@@ -131,5 +148,8 @@ fn exploring_generated_floors_never_merges_rooms_and_finds_most() {
     // their doorway are not entered by pure exploration, and a doorway the detector misses on
     // the partial map leaves the room's places unseparated. Measured: 35 of 40 on these seeds;
     // this floor guards against regressions.
-    assert!(found as f64 >= 0.8 * total as f64, "found {found} of {total} rooms");
+    assert!(
+        found as f64 >= 0.8 * total as f64,
+        "found {found} of {total} rooms"
+    );
 }

@@ -4,7 +4,10 @@ use avs_sim::{CameraView, SimRobot, World};
 use std::path::Path;
 
 fn office() -> World {
-    World::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains/environments/office.yaml")).unwrap()
+    World::load(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains/environments/office.yaml"),
+    )
+    .unwrap()
 }
 
 fn index_of(world: &World, id: &str) -> usize {
@@ -28,7 +31,12 @@ fn room_labels_follow_the_room_seeds_and_stop_at_doors() {
 #[test]
 fn a_closed_door_blocks_the_robot_and_the_camera() {
     let mut w = office();
-    let kitchen_door = w.env.doors.iter().position(|d| d.name == "door_kitchen").unwrap();
+    let kitchen_door = w
+        .env
+        .doors
+        .iter()
+        .position(|d| d.name == "door_kitchen")
+        .unwrap();
     w.env.doors[kitchen_door].open = false;
     let w = World::new(w.env.clone(), Path::new(".")).unwrap();
     let mut r = SimRobot::new(&w, 1);
@@ -37,10 +45,19 @@ fn a_closed_door_blocks_the_robot_and_the_camera() {
     // office1 is still reachable.
     assert!(r.move_to([2.0, 5.0]).reached);
     // From the corridor in front of the kitchen door, looking north, the cereal box is occluded.
-    let view = CameraView { eye: [6.0, 1.5, 1.2], yaw: 90f64.to_radians(), tilt: 0.0, hfov: 1.0, vfov: 1.0 };
+    let view = CameraView {
+        eye: [6.0, 1.5, 1.2],
+        yaw: 90f64.to_radians(),
+        tilt: 0.0,
+        hfov: 1.0,
+        vfov: 1.0,
+    };
     let cereal = index_of(&w, "cerealbox1");
     let seen = w.objects_in_view(&view);
-    let c = seen.iter().find(|v| v.index == cereal).expect("in the field of view");
+    let c = seen
+        .iter()
+        .find(|v| v.index == cereal)
+        .expect("in the field of view");
     assert!(!c.visible, "the closed door occludes it");
 }
 
@@ -50,19 +67,45 @@ fn camera_sees_objects_in_its_field_of_view_with_line_of_sight_only() {
     let cereal = index_of(&w, "cerealbox1");
     let stapler = index_of(&w, "stapler1");
     // Standing in the kitchen, looking at the table.
-    let at_table = CameraView { eye: [5.5, 3.5, 1.2], yaw: 90f64.to_radians(), tilt: -0.3, hfov: 0.8, vfov: 0.6 };
+    let at_table = CameraView {
+        eye: [5.5, 3.5, 1.2],
+        yaw: 90f64.to_radians(),
+        tilt: -0.3,
+        hfov: 0.8,
+        vfov: 0.6,
+    };
     let seen = w.objects_in_view(&at_table);
-    let c = seen.iter().find(|v| v.index == cereal).expect("cereal box in view");
+    let c = seen
+        .iter()
+        .find(|v| v.index == cereal)
+        .expect("cereal box in view");
     assert!(c.visible);
-    assert!((c.distance - ((0.1f64).powi(2) + 1.6f64.powi(2) + 0.3f64.powi(2)).sqrt()).abs() < 0.05, "{}", c.distance);
+    assert!(
+        (c.distance - ((0.1f64).powi(2) + 1.6f64.powi(2) + 0.3f64.powi(2)).sqrt()).abs() < 0.05,
+        "{}",
+        c.distance
+    );
     // The stapler is in office1, behind the wall and outside this narrow view.
     assert!(seen.iter().all(|v| v.index != stapler));
     // Turned around, the cereal box is out of view.
-    let away = CameraView { yaw: -90f64.to_radians(), ..at_table };
+    let away = CameraView {
+        yaw: -90f64.to_radians(),
+        ..at_table
+    };
     assert!(w.objects_in_view(&away).iter().all(|v| v.index != cereal));
     // Looking west through the wall into office1: the shelf is in the field of view but occluded.
-    let west = CameraView { eye: [5.0, 5.0, 1.2], yaw: std::f64::consts::PI, tilt: 0.0, hfov: 0.5, vfov: 1.0 };
+    let west = CameraView {
+        eye: [5.0, 5.0, 1.2],
+        yaw: std::f64::consts::PI,
+        tilt: 0.0,
+        hfov: 0.5,
+        vfov: 1.0,
+    };
     let shelf = index_of(&w, "shelf1");
-    let s = w.objects_in_view(&west).into_iter().find(|v| v.index == shelf).expect("shelf in the cone");
+    let s = w
+        .objects_in_view(&west)
+        .into_iter()
+        .find(|v| v.index == shelf)
+        .expect("shelf in the cone");
     assert!(!s.visible);
 }

@@ -12,7 +12,9 @@ pub fn shipped(rel: &str) -> PathBuf {
     if here.exists() {
         return here;
     }
-    let built = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..").join(rel);
+    let built = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(rel);
     if built.exists() {
         built
     } else {

@@ -25,13 +25,18 @@ pub struct Args {
 
 /// Run the subcommand.
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {
-    let world = World::load(&a.env).with_context(|| format!("loading environment {}", a.env.display()))?;
+    let world =
+        World::load(&a.env).with_context(|| format!("loading environment {}", a.env.display()))?;
     let svg = match a.explore {
         None => avs_sim::render::render_world(&world),
         Some(steps) => {
             let mut ex = Explorer::new(&world, PlaceMapParams::default(), a.seed);
             ex.run(steps);
-            tracing::info!(steps = ex.steps, places = ex.places.graph.node_count(), "explored");
+            tracing::info!(
+                steps = ex.steps,
+                places = ex.places.graph.node_count(),
+                "explored"
+            );
             avs_sim::render::render_exploration(&ex)
         }
     };

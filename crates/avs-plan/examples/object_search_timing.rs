@@ -1,5 +1,5 @@
 //! Time the object-search planner on the default environment and print its plans:
-//! `cargo run --release -p avs-plan --example os_debug -- [CORRIDOR_PLACES] [REPEATS]`.
+//! `cargo run --release -p avs-plan --example object_search_timing -- [CORRIDOR_PLACES] [REPEATS]`.
 #[path = "../tests/common/mod.rs"]
 mod common;
 use avs_plan::search::{search, Mode, SearchOptions};

@@ -1,0 +1,260 @@
+//! The simulated robot behind the agent's [`Robot`] trait.
+//!
+//! [`SimAgentRobot`] wraps a [`SimRobot`] (motion along shortest collision-free paths, laser
+//! reveal) and a [`Detector`] (the camera model of [`crate::sensors`]), and adds random action
+//! failures at seeded rates ([`FailureRates`], all 0 by default):
+//!
+//! * a failed **motion** stops at a uniformly random fraction of the shortest path (the robot
+//!   has moved and scanned that far) and reports [`FailureReason::ExecutionFailed`];
+//! * a failed **view** moves to the view pose as asked but returns no image
+//!   ([`FailureReason::ExecutionFailed`]) — a camera or detector fault.
+//!
+//! Unreachable goals (no collision-free path in the true world, e.g. behind a closed door)
+//! report [`FailureReason::Unreachable`]; bad requests (non-finite numbers, outside the
+//! camera's limits, unknown classes) report [`FailureReason::InvalidRequest`] and do nothing.
+//! Everything stochastic draws from the robot's seeded `rand_chacha` generator, so the same
+//! seed and the same requests give the same outcomes. The trait exposes only what a real robot
+//! would report; [`SimAgentRobot::sim`] is for the simulator's own bookkeeping (metrics).
+//!
+//! ```
+//! use avs_agent::{Pose2D, Robot, ViewCone};
+//! use avs_sim::sim_robot::{SimAgentRobot, SimRobotConfig};
+//! let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+//! let world = avs_sim::World::load(&root.join("domains/environments/office.yaml")).unwrap();
+//! let knowledge = avs_format::load_yaml(&root.join("knowledge/office.yaml")).unwrap();
+//! let mut robot = SimAgentRobot::new(&world, knowledge, SimRobotConfig::default(), 1).unwrap();
+//! // Into the kitchen, then look at the table from its south side, slightly down.
+//! let view = ViewCone::new(Pose2D::new(5.5, 3.5, std::f64::consts::FRAC_PI_2), 0.0, -0.2, 1.0);
+//! let seen = robot
+//!     .process_view_cone(&view, &["table".to_string(), "cerealbox".to_string()])
+//!     .unwrap();
+//! assert!(seen.travelled > 0.0 && robot.odometry() >= seen.travelled);
+//! assert!(seen.detections.iter().all(|d| d.confidence > 0.0 && d.confidence <= 1.0));
+//! // Unknown classes are refused, not guessed.
+//! assert!(robot.process_view_cone(&view, &["unicorn".to_string()]).is_err());
+//! ```
+
+use crate::robot::SimRobot;
+use crate::sensors::{Detector, DetectorConfig, SensorError};
+use crate::world::{CameraView, World};
+use avs_agent::{
+    ActionFailure, ActionResult, FailureReason, MapUpdate, MoveReport, Pose2D, Robot, ViewCone,
+    ViewReport,
+};
+use avs_format::environment::Camera;
+use avs_format::knowledge::Knowledge;
+use avs_map::grid::Cell;
+use rand::Rng;
+
+/// Rates of random action failures, each a probability per action in [0, 1].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FailureRates {
+    /// Probability that a motion stops part of the way.
+    pub motion: f64,
+    /// Probability that a view returns no image.
+    pub view: f64,
+}
+
+/// Configuration of the simulated robot beyond the environment and knowledge files.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SimRobotConfig {
+    /// The detector's parameters.
+    pub detector: DetectorConfig,
+    /// Random action failure rates.
+    pub failures: FailureRates,
+}
+
+/// How far from the requested view pose the robot may be and still take the view there, m.
+const AT_POSE: f64 = 0.05;
+
+/// The simulated robot as the agent sees it.
+#[derive(Debug, Clone)]
+pub struct SimAgentRobot<'w> {
+    world: &'w World,
+    sim: SimRobot<'w>,
+    detector: Detector,
+    failures: FailureRates,
+    known_cells: usize,
+}
+
+impl<'w> SimAgentRobot<'w> {
+    /// A robot at the world's start pose with `knowledge`'s sensor model, seeded by `seed`.
+    /// Errors name the configuration or knowledge field that is out of range.
+    pub fn new(
+        world: &'w World,
+        knowledge: Knowledge,
+        config: SimRobotConfig,
+        seed: u64,
+    ) -> Result<Self, SensorError> {
+        for (field, value) in [
+            ("failures.motion", config.failures.motion),
+            ("failures.view", config.failures.view),
+        ] {
+            if !(0.0..=1.0).contains(&value) {
+                return Err(SensorError::Config {
+                    field,
+                    value,
+                    expected: "a probability in [0, 1]",
+                });
+            }
+        }
+        let detector = Detector::new(knowledge, config.detector)?;
+        let sim = SimRobot::new(world, seed);
+        Ok(Self {
+            world,
+            sim,
+            detector,
+            failures: config.failures,
+            known_cells: 0,
+        })
+    }
+
+    /// The wrapped simulator robot: ground truth, for the simulator's metrics only. An agent
+    /// must never read it.
+    pub fn sim(&self) -> &SimRobot<'w> {
+        &self.sim
+    }
+
+    /// The detector.
+    pub fn detector(&self) -> &Detector {
+        &self.detector
+    }
+
+    fn report(&self, travelled: f64) -> MoveReport {
+        MoveReport {
+            pose: self.pose(),
+            travelled,
+        }
+    }
+
+    /// Move to `goal`, failing at the configured rate part of the way.
+    fn drive(&mut self, goal: [f64; 2]) -> ActionResult<f64> {
+        let start = [self.sim.pose[0], self.sim.pose[1]];
+        let unreachable = || {
+            ActionFailure::new(
+                FailureReason::Unreachable,
+                format!(
+                    "no collision-free path from ({:.2}, {:.2}) to ({:.2}, {:.2})",
+                    start[0], start[1], goal[0], goal[1]
+                ),
+            )
+        };
+        let before = self.sim.path_length;
+        // The failure draw comes first so the common case plans the path only once.
+        if self.failures.motion > 0.0 && self.sim.rng.gen::<f64>() < self.failures.motion {
+            let path = self.sim.path_to(goal).ok_or_else(unreachable)?;
+            let stop = self.sim.rng.gen::<f64>() * path.length;
+            let mut acc = 0.0;
+            let mut at = path.points[0];
+            for w in path.points.windows(2) {
+                let d = (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]);
+                if acc + d > stop {
+                    break;
+                }
+                acc += d;
+                at = w[1];
+            }
+            self.sim.move_to(at);
+            return Err(ActionFailure::new(
+                FailureReason::ExecutionFailed,
+                format!(
+                    "navigation aborted at ({:.2}, {:.2}) after {:.2} m of {:.2} m",
+                    self.sim.pose[0],
+                    self.sim.pose[1],
+                    self.sim.path_length - before,
+                    path.length
+                ),
+            ));
+        }
+        if !self.sim.move_to(goal).reached {
+            return Err(unreachable());
+        }
+        Ok(self.sim.path_length - before)
+    }
+}
+
+impl Robot for SimAgentRobot<'_> {
+    fn pose(&self) -> Pose2D {
+        let p = self.sim.pose;
+        Pose2D::new(p[0], p[1], p[2])
+    }
+
+    fn camera(&self) -> Camera {
+        self.world.env.camera.clone()
+    }
+
+    fn odometry(&self) -> f64 {
+        self.sim.path_length
+    }
+
+    fn move_to(&mut self, goal: Pose2D) -> ActionResult<MoveReport> {
+        if !goal.is_finite() {
+            return Err(ActionFailure::new(
+                FailureReason::InvalidRequest,
+                format!(
+                    "goal ({}, {}, {}): expected finite numbers",
+                    goal.x, goal.y, goal.yaw
+                ),
+            ));
+        }
+        let travelled = self.drive([goal.x, goal.y])?;
+        self.sim.pose[2] = goal.yaw;
+        Ok(self.report(travelled))
+    }
+
+    fn map_update(&mut self) -> MapUpdate {
+        let grid = self.sim.known.clone();
+        let known = grid.cells().len() - grid.count(Cell::Unknown);
+        let newly_known = known.saturating_sub(self.known_cells);
+        self.known_cells = known;
+        MapUpdate { grid, newly_known }
+    }
+
+    fn process_view_cone(
+        &mut self,
+        cone: &ViewCone,
+        classes: &[String],
+    ) -> ActionResult<ViewReport> {
+        let camera = self.camera();
+        cone.check(&camera)?;
+        if let Some(c) = classes
+            .iter()
+            .find(|c| self.detector.knowledge().class(c).is_none())
+        {
+            return Err(ActionFailure::new(
+                FailureReason::InvalidRequest,
+                SensorError::UnknownClass(c.clone()).to_string(),
+            ));
+        }
+        let here = self.pose();
+        let travelled = if here.distance(&cone.pose) > AT_POSE {
+            self.drive([cone.pose.x, cone.pose.y])?
+        } else {
+            0.0
+        };
+        self.sim.pose[2] = cone.pose.yaw;
+        if self.failures.view > 0.0 && self.sim.rng.gen::<f64>() < self.failures.view {
+            return Err(ActionFailure::new(
+                FailureReason::ExecutionFailed,
+                "camera returned no image",
+            ));
+        }
+        let pose = self.pose();
+        let view = CameraView {
+            eye: [pose.x, pose.y, camera.height],
+            yaw: pose.yaw + cone.pan,
+            tilt: cone.tilt,
+            hfov: camera.hfov_deg.to_radians() / cone.zoom,
+            vfov: camera.vfov_deg.to_radians() / cone.zoom,
+        };
+        let detections = self
+            .detector
+            .detect(self.world, &view, cone.zoom, classes, &mut self.sim.rng)
+            .map_err(|e| ActionFailure::new(FailureReason::InvalidRequest, e.to_string()))?;
+        Ok(ViewReport {
+            pose,
+            detections,
+            travelled,
+        })
+    }
+}
