@@ -32,8 +32,13 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod agent;
 pub mod robot;
+pub mod trace;
 pub mod world_model;
+
+pub use agent::{Agent, AgentConfig, AgentError, FoundObject, Goal, Metrics, SearchReport};
+pub use trace::{Event, TraceSink};
 
 pub use robot::{
     ActionFailure, ActionResult, Detection, FailureReason, MapUpdate, MoveReport, Point3, Pose2D,

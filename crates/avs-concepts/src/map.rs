@@ -10,20 +10,30 @@ use avs_format::knowledge::{Knowledge, Relation};
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 /// A room of the place map (the caller's id).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
+)]
 pub struct RoomId(pub u64);
 /// A place of the place map (the caller's id).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
+)]
 pub struct PlaceId(pub u64);
 /// A placeholder (frontier place) of the place map (the caller's id).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
+)]
 pub struct PlaceholderId(pub u64);
 /// A landmark object instance (table, counter, shelf) found in a room.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
+)]
 pub struct LandmarkId(pub u64);
 
 /// A location objects are searched in (the location hierarchy of Aydemir et al. 2011, §III-A).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
+)]
 pub enum Location {
     /// A whole room, including every known landmark location in it (rates add, eq. 2).
     Room(RoomId),
@@ -32,7 +42,7 @@ pub enum Location {
 }
 
 /// What is known about a placeholder.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Placeholder {
     /// The room the placeholder hangs off.
     pub room: RoomId,
@@ -67,7 +77,7 @@ struct LandmarkState {
 }
 
 /// Statistics of the last inference run.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
 pub struct InferenceStats {
     /// BP sweeps over the rooms whose messages needed updating.
     pub iterations: usize,
@@ -153,8 +163,8 @@ impl ConceptualMap {
         Ok(Self::from_model(Model::from_knowledge(file, k)?))
     }
 
-    /// An empty map over a dense model.
-    pub fn from_model(model: Model) -> Self {
+    /// An empty map over a dense model (built and checked by [`Model::from_knowledge`]).
+    fn from_model(model: Model) -> Self {
         ConceptualMap {
             model,
             rooms: BTreeMap::new(),

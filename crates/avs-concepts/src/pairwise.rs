@@ -74,7 +74,7 @@ impl PairwiseMrf {
     /// strictly positive somewhere), edge potential `phi[a * k + b]` = φ(x_i = a, x_j = b) for
     /// every edge `(i, j)`, and starting messages from `warm(i, j)` (message i → j) when it
     /// returns one of length k, uniform otherwise. Every node starts dirty.
-    pub fn new(
+    pub(crate) fn new(
         k: usize,
         phi: Vec<f64>,
         unary: Vec<f64>,
@@ -118,13 +118,13 @@ impl PairwiseMrf {
     }
 
     /// The message `i → j` along edge `e` (`forward`: from the edge's first node).
-    pub fn message(&self, e: usize, forward: bool) -> &[f64] {
+    pub(crate) fn message(&self, e: usize, forward: bool) -> &[f64] {
         let d = 2 * e + usize::from(!forward);
         &self.msgs[d * self.k..(d + 1) * self.k]
     }
 
     /// Replace node `i`'s potential and mark it dirty.
-    pub fn set_unary(&mut self, i: usize, u: &[f64]) {
+    pub(crate) fn set_unary(&mut self, i: usize, u: &[f64]) {
         self.unary[i * self.k..(i + 1) * self.k].copy_from_slice(u);
         self.dirty[i] = true;
         self.dirty_src[i] = usize::MAX;
@@ -251,7 +251,7 @@ impl PairwiseMrf {
     }
 
     /// Belief of node `i`.
-    pub fn belief(&self, i: usize) -> Vec<f64> {
+    pub(crate) fn belief(&self, i: usize) -> Vec<f64> {
         let k = self.k;
         let mut b = self.unary[i * k..(i + 1) * k].to_vec();
         for &(_, _, inn) in &self.nbrs[i] {

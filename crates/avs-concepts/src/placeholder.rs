@@ -25,7 +25,7 @@ use crate::map::Placeholder;
 use crate::model::Model;
 
 /// The six hypotheses of one placeholder and the categories of their rooms.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Hypotheses {
     /// P(h1) … P(h6), summing to 1.
     pub probabilities: [f64; 6],
@@ -63,7 +63,11 @@ impl Hypotheses {
 }
 
 /// The hypotheses of placeholder `p` whose room has category belief `room_belief`.
-pub fn hypothesis_probabilities(model: &Model, p: &Placeholder, room_belief: &[f64]) -> Hypotheses {
+pub(crate) fn hypothesis_probabilities(
+    model: &Model,
+    p: &Placeholder,
+    room_belief: &[f64],
+) -> Hypotheses {
     let pm = &model.placeholder;
     let a = p.open_area_m2.max(0.0);
     let p1 = (-a / pm.no_places_area_m2).exp();

@@ -36,13 +36,18 @@
 //! * **Session.** Each `next_action()` runs RTBSS (default depth 2) on bounds refined by HSVI for a
 //!   short budget when the session starts (default 30 trials — a trial budget rather than a time
 //!   budget, so decisions and plan traces do not depend on the machine); a step guard forces a
-//!   declaration after `max_steps`. An observation the model calls impossible (e.g. a detection with FP = 0 where the
-//!   belief rules the target out) is an error, not a silent reset.
+//!   declaration after `max_steps`. An observation the model calls impossible (e.g. a detection
+//!   with FP = 0 where the belief rules the target out) is an error, not a silent reset.
+//! * **Known limitation.** The sawtooth upper bound converges slowly on view-cone models with noisy
+//!   sensors (thousands of points for a 2-cone model at gap 1e-2), which is why sessions rely on
+//!   RTBSS over a bounded offline solve rather than on a converged policy.
 //! * **RTBSS leaves.** At depth 1 the children are leaves, so all actions are evaluated exactly
 //!   instead of being ordered by U (same value, less work); deeper, Algorithm 3.2 is followed.
 //! * **CREATEVIEWCONES.** Candidate pans/tilts are spaced by half the field of view; visibility is the
 //!   cell-centre test of §2.1.2 plus the object's min/max distance (§2.1.3) and a caller-supplied
-//!   line-of-sight predicate; views are chosen by greedy set cover (§2.1.4).
+//!   line-of-sight predicate; views are chosen by greedy set cover (§2.1.4). The points are whatever
+//!   the caller samples: a room's cells, or the top / inside of a landmark object; §2.1.5's extra tilt
+//!   views for near cells are subsumed by trying every tilt step for every pose and pan.
 //!
 //! ## Example
 //! ```

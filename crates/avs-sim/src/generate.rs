@@ -278,21 +278,7 @@ pub fn generate(
             let lambda = knowledge.object_rates.get(&cls.name).map_or(0.0, |r| r[c]);
             for _ in 0..poisson(&mut rng, lambda).min(3) {
                 if let Some(fp) = place_box(&mut rng, rect, cls.size, &footprints, 0.3) {
-                    objects.push(Object {
-                        id: new_id(&cls.name),
-                        class: cls.name.clone(),
-                        role: ObjectRole::Target,
-                        pose: Pose {
-                            x: (fp.x0 + fp.x1) / 2.0,
-                            y: (fp.y0 + fp.y1) / 2.0,
-                            z: 0.0,
-                            yaw_deg: 0.0,
-                        },
-                        size: cls.size,
-                        room: rooms[k].name.clone(),
-                        on: None,
-                        r#in: None,
-                    });
+                    objects.push(on_floor(cls, fp, &rooms[k].name, new_id(&cls.name)));
                 }
             }
         }
@@ -333,21 +319,7 @@ pub fn generate(
                 let (k, rect, _) = rects[rng.gen_range(0..rects.len())];
                 let fp = place_box(&mut rng, rect, cls.size, &[], 0.3)
                     .ok_or_else(|| GenerateError::Invalid(format!("no room fits a `{target}`")))?;
-                objects.push(Object {
-                    id: new_id(&cls.name),
-                    class: cls.name.clone(),
-                    role: ObjectRole::Target,
-                    pose: Pose {
-                        x: (fp.x0 + fp.x1) / 2.0,
-                        y: (fp.y0 + fp.y1) / 2.0,
-                        z: 0.0,
-                        yaw_deg: 0.0,
-                    },
-                    size: cls.size,
-                    room: rooms[k].name.clone(),
-                    on: None,
-                    r#in: None,
-                });
+                objects.push(on_floor(cls, fp, &rooms[k].name, new_id(&cls.name)));
             }
         }
     }
@@ -385,6 +357,25 @@ pub fn generate(
         },
         camera: Camera::default(),
     })
+}
+
+/// A target object lying on the floor in footprint `fp`.
+fn on_floor(cls: &avs_format::knowledge::ObjectClass, fp: Rect, room: &str, id: String) -> Object {
+    Object {
+        id,
+        class: cls.name.clone(),
+        role: ObjectRole::Target,
+        pose: Pose {
+            x: (fp.x0 + fp.x1) / 2.0,
+            y: (fp.y0 + fp.y1) / 2.0,
+            z: 0.0,
+            yaw_deg: 0.0,
+        },
+        size: cls.size,
+        room: room.to_string(),
+        on: None,
+        r#in: None,
+    }
 }
 
 fn object_on(

@@ -1,0 +1,1383 @@
+//! The switching planner's executive (Aydemir et al. 2011, `002` §II-A): keep the place map and
+//! the conceptual map current from robot feedback, get a plan from the assumptive continual
+//! planner, execute it step by step, run a view-cone POMDP session on every SEARCHFOROBJECT,
+//! monitor after every step and replan with the reason, and give up when no plan's success
+//! probability clears the threshold.
+
+use crate::robot::{Point3, Pose2D, Robot, ViewCone};
+use crate::trace::{Event, TraceSink};
+use crate::world_model::{WorldModel, WorldModelError};
+use avs_concepts::{ConceptError, ConceptualMap, LandmarkId, Location, PlaceholderId, RoomId};
+use avs_format::knowledge::{Knowledge, Relation};
+use avs_map::grid::{Cell, OccupancyGrid};
+use avs_map::nav::{shortest_path, Traversability};
+use avs_map::places::{dist, PlaceMapParams};
+use avs_map::raycast::line_of_sight;
+use avs_plan::continual::{ActivePlan, ContinualOptions, ContinualPlanner, Decision, Replan, Step, Verdict};
+use avs_plan::domain::Domain;
+use avs_plan::problem::{Functions, Problem};
+use avs_pomdp::{
+    cone_priors, create_view_cones, euclidean_travel, CameraModel, DecisionRewards,
+    DetectionRange, PlannedView, SessionOptions, ViewConeAction, ViewConeProblem,
+    ViewConeSession,
+};
+use petgraph::graph::NodeIndex;
+use serde::Serialize;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::time::Instant;
+
+/// Errors that stop the agent before it can search (bad goal, inconsistent knowledge).
+#[derive(Debug, thiserror::Error)]
+pub enum AgentError {
+    /// The goal names a class the knowledge file does not know.
+    #[error("goal class `{class}` is not an object class of the knowledge file; expected one of {known}")]
+    UnknownClass {
+        /// The class asked for.
+        class: String,
+        /// The known classes.
+        known: String,
+    },
+    /// A configuration value is out of range.
+    #[error("agent configuration `{field}` = {value}: expected {expected}")]
+    Config {
+        /// The field.
+        field: &'static str,
+        /// Its value.
+        value: f64,
+        /// What is expected.
+        expected: &'static str,
+    },
+    /// The knowledge file is not usable by the conceptual map.
+    #[error(transparent)]
+    Concepts(#[from] ConceptError),
+    /// The world model refused an update.
+    #[error(transparent)]
+    WorldModel(#[from] WorldModelError),
+}
+
+/// Settings of the agent.
+#[derive(Debug, Clone)]
+pub struct AgentConfig {
+    /// Place map parameters (place spacing, door widths).
+    pub places: PlaceMapParams,
+    /// Continual planner settings (search, success threshold, assumption bound).
+    pub planner: ContinualOptions,
+    /// View-cone POMDP session settings.
+    pub session: SessionOptions,
+    /// Give up after this many plans.
+    pub max_plans: usize,
+    /// Give up after this many executed actions.
+    pub max_actions: usize,
+    /// Detections below this confidence are ignored.
+    pub min_confidence: f64,
+    /// The robot's radius, metres (for the agent's own path planning on the known map).
+    pub robot_radius: f64,
+    /// Cost of processing one view cone, in the POMDP's reward unit.
+    pub process_cost: f64,
+    /// Travel cost per metre, in the POMDP's reward unit.
+    pub travel_cost_per_m: f64,
+    /// Largest number of view cones per location.
+    pub max_cones: usize,
+}
+
+impl Default for AgentConfig {
+    fn default() -> Self {
+        Self {
+            places: PlaceMapParams::default(),
+            planner: ContinualOptions::default(),
+            session: SessionOptions::default(),
+            max_plans: 40,
+            max_actions: 150,
+            min_confidence: 0.3,
+            robot_radius: 0.25,
+            process_cost: 1.0,
+            travel_cost_per_m: 0.5,
+            max_cones: 24,
+        }
+    }
+}
+
+/// A search goal: find an object of a class and report its position.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Goal {
+    /// The object class.
+    pub class: String,
+}
+
+impl Goal {
+    /// Find an object of `class`.
+    pub fn find(class: &str) -> Self {
+        Self {
+            class: class.to_string(),
+        }
+    }
+}
+
+/// The object the agent reported.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FoundObject {
+    /// Its name in the plans (`object3`).
+    pub name: String,
+    /// Its class.
+    pub class: String,
+    /// Its estimated position.
+    pub pose: Point3,
+    /// The detector's confidence in the sighting that found it.
+    pub confidence: f64,
+}
+
+/// Figures of one search.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Metrics {
+    /// Odometry during this search, metres.
+    pub path_length: f64,
+    /// Plans made.
+    pub plans: usize,
+    /// DT (view-cone POMDP) sessions run.
+    pub dt_sessions: usize,
+    /// Actions executed (not counting assumptions).
+    pub actions: usize,
+    /// Wall time of each planning call, ms.
+    pub plan_ms: Vec<f64>,
+    /// Wall time of each DT decision (next action), ms.
+    pub dt_ms: Vec<f64>,
+}
+
+/// The median of a list (0 when empty).
+pub fn median(xs: &[f64]) -> f64 {
+    if xs.is_empty() {
+        return 0.0;
+    }
+    let mut v = xs.to_vec();
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        (v[n / 2 - 1] + v[n / 2]) / 2.0
+    }
+}
+
+/// What a search returned.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SearchReport {
+    /// The reported object, when the goal was reached.
+    pub found: Option<FoundObject>,
+    /// Why the search ended (goal reached, or why it gave up).
+    pub reason: String,
+    /// The plan trace.
+    pub trace: Vec<Event>,
+    /// Figures.
+    pub metrics: Metrics,
+}
+
+/// A placeholder the agent tracks under a stable name.
+#[derive(Debug, Clone)]
+struct PhEntry {
+    id: usize,
+    pos: [f64; 2],
+    /// Set once explored: the room it was explored from and the place it led to, if any.
+    explored: Option<(u64, Option<NodeIndex>)>,
+}
+
+/// An object the agent found (landmark or target).
+#[derive(Debug, Clone)]
+struct Known {
+    class: String,
+    pos: Point3,
+    place: NodeIndex,
+    landmark: Option<LandmarkId>,
+    on: Option<usize>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum ConeLoc {
+    Room(u64),
+    On(usize),
+}
+
+#[derive(Debug, Clone)]
+struct ConeSet {
+    views: Vec<PlannedView>,
+    cells: Vec<Vec<usize>>,
+    n_points: usize,
+    covered_share: f64,
+}
+
+/// What a plan name stands for.
+#[derive(Debug, Clone, Copy)]
+enum PhRef {
+    Current(usize),
+    Explored(Option<RoomId>),
+}
+
+/// The problem handed to the planner and the meaning of its names.
+#[derive(Debug, Clone, Default)]
+struct Snapshot {
+    problem: Problem,
+    pos: HashMap<String, [f64; 2]>,
+    placeholders: HashMap<String, PhRef>,
+    rooms: HashMap<String, RoomId>,
+    objects: HashMap<String, usize>,
+}
+
+/// Costs and probabilities of the object-search domain from the conceptual map.
+struct Probs<'a> {
+    snap: &'a Snapshot,
+    cm: &'a ConceptualMap,
+    p_detect: f64,
+}
+
+const P_MIN: f64 = 1e-6;
+
+impl Functions for Probs<'_> {
+    fn value(&self, name: &str, args: &[&str]) -> Option<f64> {
+        let m = self.cm.model();
+        let cat = |c: &str| m.category(c).ok();
+        let exists = |rate: f64| 1.0 - (-rate).exp();
+        let p = match (name, args) {
+            ("distance", [a, b]) => {
+                return Some(dist(*self.snap.pos.get(*a)?, *self.snap.pos.get(*b)?));
+            }
+            ("p-leads-to-room", [ph, c]) => match self.snap.placeholders.get(*ph)? {
+                PhRef::Current(i) => self
+                    .cm
+                    .p_category_placeholder(PlaceholderId(*i as u64), c)
+                    .ok()?,
+                PhRef::Explored(Some(r)) => self.cm.p_category(*r, c).ok()?,
+                PhRef::Explored(None) => 0.0,
+            },
+            ("p-category", [r, c]) => self.cm.p_category(*self.snap.rooms.get(*r)?, c).ok()?,
+            ("p-object-in", [l, r, c]) => {
+                let k = cat(c)?;
+                match self.snap.rooms.get(*r) {
+                    Some(&room) => exists(*self.cm.rates(Location::Room(room), l).ok()?.get(k)?),
+                    None => exists(*m.room_rates.get(m.class(l).ok()?)?.get(k)?),
+                }
+            }
+            ("p-object-on", [l, lc, c]) => {
+                let k = cat(c)?;
+                let r = m.landmark_rate(m.class(l).ok()?, Relation::On, m.class(lc).ok()?);
+                exists(*r.get(k)?)
+            }
+            ("p-detect", [_]) => self.p_detect,
+            _ => return None,
+        };
+        Some(if p.is_finite() { p.clamp(P_MIN, 1.0) } else { P_MIN })
+    }
+}
+
+/// Long-lived state: the maps and what was found, kept between goals.
+#[derive(Debug, Clone)]
+struct State {
+    wm: WorldModel,
+    grid: OccupancyGrid,
+    registry: Vec<PhEntry>,
+    next_ph: usize,
+    objects: Vec<Known>,
+    looked: BTreeSet<u64>,
+    cones: BTreeMap<(String, ConeLoc), ConeSet>,
+    /// (object, class): searched on without success.
+    exhausted: BTreeSet<(usize, String)>,
+    /// Places that proved unreachable.
+    blocked: BTreeSet<NodeIndex>,
+    /// Registry index of each current place-map placeholder.
+    ph_of: Vec<Option<usize>>,
+}
+
+/// The agent: one per robot; [`Agent::search`] once per goal. The maps are kept between goals.
+#[derive(Debug, Clone)]
+pub struct Agent {
+    planner: ContinualPlanner,
+    knowledge: Knowledge,
+    config: AgentConfig,
+    state: Option<State>,
+}
+
+/// How a step ended.
+enum StepEnd {
+    Continue,
+    Replan(String),
+    Found(FoundObject),
+}
+
+struct Run<'s> {
+    events: Vec<Event>,
+    sink: &'s mut dyn TraceSink,
+    metrics: Metrics,
+}
+
+impl Run<'_> {
+    fn emit(&mut self, e: Event) {
+        tracing::debug!(event = %e.json_line(), "trace");
+        self.sink.event(&e);
+        self.events.push(e);
+    }
+}
+
+fn pose3(p: Pose2D) -> [f64; 3] {
+    [p.x, p.y, p.yaw]
+}
+
+impl Agent {
+    /// An agent for a planning domain and a knowledge file.
+    pub fn new(domain: Domain, knowledge: Knowledge, config: AgentConfig) -> Result<Self, AgentError> {
+        for (field, value, ok) in [
+            ("min_confidence", config.min_confidence, (0.0..=1.0).contains(&config.min_confidence)),
+            ("robot_radius", config.robot_radius, config.robot_radius.is_finite() && config.robot_radius >= 0.0),
+            ("process_cost", config.process_cost, config.process_cost.is_finite() && config.process_cost >= 0.0),
+            ("travel_cost_per_m", config.travel_cost_per_m, config.travel_cost_per_m.is_finite() && config.travel_cost_per_m >= 0.0),
+        ] {
+            if !ok {
+                return Err(AgentError::Config {
+                    field,
+                    value,
+                    expected: "a finite non-negative number (a probability for min_confidence)",
+                });
+            }
+        }
+        // Fail early on knowledge the conceptual map cannot use.
+        ConceptualMap::new("knowledge", &knowledge)?;
+        Ok(Self {
+            planner: ContinualPlanner::new(domain, config.planner),
+            knowledge,
+            config,
+            state: None,
+        })
+    }
+
+    /// Search for `goal` with `robot`; the trace is returned in the report.
+    pub fn search<R: Robot + ?Sized>(&mut self, robot: &mut R, goal: Goal) -> Result<SearchReport, AgentError> {
+        let mut sink = |_: &Event| {};
+        self.search_with(robot, goal, &mut sink)
+    }
+
+    /// Search for `goal`, handing every trace event to `sink` as it happens.
+    pub fn search_with<R: Robot + ?Sized>(
+        &mut self,
+        robot: &mut R,
+        goal: Goal,
+        sink: &mut dyn TraceSink,
+    ) -> Result<SearchReport, AgentError> {
+        if self.knowledge.class(&goal.class).is_none() {
+            return Err(AgentError::UnknownClass {
+                class: goal.class.clone(),
+                known: self
+                    .knowledge
+                    .object_classes
+                    .iter()
+                    .map(|c| c.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            });
+        }
+        let start_odo = robot.odometry();
+        let mut run = Run {
+            events: Vec::new(),
+            sink,
+            metrics: Metrics::default(),
+        };
+        run.emit(Event::Started {
+            goal: goal.class.clone(),
+            pose: pose3(robot.pose()),
+        });
+        if self.state.is_none() {
+            let wm = WorldModel::new("knowledge", &self.knowledge, self.config.places.clone())?;
+            let grid = robot.map_update().grid;
+            self.state = Some(State {
+                wm,
+                grid,
+                registry: Vec::new(),
+                next_ph: 0,
+                objects: Vec::new(),
+                looked: BTreeSet::new(),
+                cones: BTreeMap::new(),
+                exhausted: BTreeSet::new(),
+                blocked: BTreeSet::new(),
+                ph_of: Vec::new(),
+            });
+            // Turn in place so the laser sees all around, then drop the first place.
+            let p = robot.pose();
+            let _ = robot.move_to(Pose2D::new(p.x, p.y, p.yaw + std::f64::consts::PI));
+            let _ = robot.move_to(p);
+            let grid = robot.map_update().grid;
+            let st = self.state_mut();
+            st.wm.places.robot_moved(&grid, [p.x, p.y], [p.x, p.y]);
+            st.grid = grid;
+            self.sync()?;
+        }
+        self.look_around(robot, &mut run)?;
+        let (found, reason) = self.main_loop(robot, &goal, &mut run)?;
+        run.metrics.path_length = robot.odometry() - start_odo;
+        Ok(SearchReport {
+            found,
+            reason,
+            trace: run.events,
+            metrics: run.metrics,
+        })
+    }
+
+    fn state_mut(&mut self) -> &mut State {
+        self.state.as_mut().expect("initialised at the start of a search")
+    }
+
+    fn state(&self) -> &State {
+        self.state.as_ref().expect("initialised at the start of a search")
+    }
+
+    fn main_loop<R: Robot + ?Sized>(
+        &mut self,
+        robot: &mut R,
+        goal: &Goal,
+        run: &mut Run,
+    ) -> Result<(Option<FoundObject>, String), AgentError> {
+        let mut reason = "initial plan".to_string();
+        let p_detect = 1.0 - self.knowledge.sensor.false_negative;
+        loop {
+            if run.metrics.plans >= self.config.max_plans {
+                let r = format!("gave up after {} plans without finding a {}", run.metrics.plans, goal.class);
+                run.emit(Event::GaveUp { reason: r.clone() });
+                return Ok((None, r));
+            }
+            let snap = self.snapshot(&goal.class);
+            let t0 = Instant::now();
+            let decision = {
+                let st = self.state();
+                let f = Probs { snap: &snap, cm: &st.wm.concepts, p_detect };
+                self.planner.plan(&snap.problem, &f)
+            };
+            run.metrics.plan_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+            let plan = match decision {
+                Ok(Decision::Plan(p)) => p,
+                Ok(Decision::GoalReached) => {
+                    let r = "the goal already holds".to_string();
+                    return Ok((None, r));
+                }
+                Ok(Decision::GiveUp(g)) => {
+                    let r = g.to_string();
+                    run.emit(Event::GaveUp { reason: r.clone() });
+                    return Ok((None, r));
+                }
+                Err(e) => {
+                    let r = format!("the planner failed: {e}");
+                    run.emit(Event::GaveUp { reason: r.clone() });
+                    return Ok((None, r));
+                }
+            };
+            run.metrics.plans += 1;
+            run.emit(Event::PlanMade {
+                plan: run.metrics.plans,
+                reason: reason.clone(),
+                steps: plan.steps.iter().map(|s| s.display.clone()).collect(),
+                cost: plan.cost,
+                probability: plan.probability,
+            });
+            reason = "the plan ended without reaching the goal".to_string();
+            let mut i = 0;
+            while i < plan.steps.len() {
+                let st = plan.steps[i].clone();
+                if st.assumption {
+                    i += 1;
+                    continue;
+                }
+                if run.metrics.actions >= self.config.max_actions {
+                    let r = format!("gave up after {} actions without finding a {}", run.metrics.actions, goal.class);
+                    run.emit(Event::GaveUp { reason: r.clone() });
+                    return Ok((None, r));
+                }
+                run.metrics.actions += 1;
+                run.emit(Event::ActionStarted { action: st.display.clone() });
+                let end = self.execute(robot, &plan, i, &snap, goal, run)?;
+                let outcome = match &end {
+                    StepEnd::Replan(r) if r.starts_with("action failed") => r.clone(),
+                    _ => "ok".to_string(),
+                };
+                run.emit(Event::ActionFinished {
+                    action: st.display.clone(),
+                    outcome,
+                    pose: pose3(robot.pose()),
+                    path_length: robot.odometry(),
+                });
+                match end {
+                    StepEnd::Found(f) => {
+                        run.emit(Event::ActionStarted { action: format!("REPORTPOSITION {}", f.name) });
+                        run.emit(Event::GoalReached {
+                            object: f.name.clone(),
+                            pose: [f.pose.x, f.pose.y, f.pose.z],
+                        });
+                        let r = format!("found {} {} at ({:.2}, {:.2}, {:.2})", f.class, f.name, f.pose.x, f.pose.y, f.pose.z);
+                        return Ok((Some(f), r));
+                    }
+                    StepEnd::Replan(r) => {
+                        reason = r;
+                        break;
+                    }
+                    StepEnd::Continue => {}
+                }
+                if matches!(self.current_room(), Some(r) if !self.state().looked.contains(&r.0)) {
+                    self.look_around(robot, run)?;
+                }
+                // Monitor the rest of the plan against the world as now known.
+                let now = self.snapshot(&goal.class);
+                let verdict = {
+                    let stt = self.state();
+                    let f = Probs { snap: &now, cm: &stt.wm.concepts, p_detect };
+                    self.planner.monitor(&plan, i + 1, &now.problem, &f)
+                };
+                match verdict {
+                    Ok(Verdict::Continue) => i += 1,
+                    Ok(Verdict::GoalReached) => {
+                        reason = "the goal holds".into();
+                        break;
+                    }
+                    Ok(Verdict::Replan(r)) => {
+                        if let Replan::AssumptionContradicted { action, .. }
+                        | Replan::AssumptionUnlikely { action, .. } = &r
+                        {
+                            run.emit(Event::AssumptionViolated {
+                                assumption: action.clone(),
+                                reason: r.to_string(),
+                            });
+                        }
+                        reason = r.to_string();
+                        break;
+                    }
+                    Err(e) => {
+                        reason = format!("the map changed under the plan ({e})");
+                        break;
+                    }
+                }
+            }
+        }
+    }
+
+    fn current_place(&self) -> Option<NodeIndex> {
+        let st = self.state();
+        let cur = st.wm.places.current_place()?;
+        if st.wm.room_of(cur).is_some() {
+            return Some(cur);
+        }
+        let p = st.wm.places.graph.node_weight(cur)?.pos;
+        self.nearest_room_place(p)
+    }
+
+    fn current_room(&self) -> Option<RoomId> {
+        let p = self.current_place()?;
+        self.state().wm.room_of(p)
+    }
+
+    /// The place with a room nearest to a point.
+    fn nearest_room_place(&self, p: [f64; 2]) -> Option<NodeIndex> {
+        let st = self.state();
+        st.wm
+            .places
+            .graph
+            .node_indices()
+            .filter(|&n| st.wm.room_of(n).is_some())
+            .min_by(|&a, &b| {
+                dist(st.wm.places.graph[a].pos, p).total_cmp(&dist(st.wm.places.graph[b].pos, p))
+            })
+    }
+
+    /// The room a place belongs to; a door place belongs to its neighbour's room of smallest id.
+    fn room_for(&self, n: NodeIndex) -> Option<RoomId> {
+        let wm = &self.state().wm;
+        wm.room_of(n).or_else(|| {
+            wm.places
+                .graph
+                .neighbors(n)
+                .filter_map(|m| wm.room_of(m))
+                .min()
+        })
+    }
+
+    fn sync(&mut self) -> Result<(), AgentError> {
+        let st = self.state_mut();
+        let grid = st.grid.clone();
+        st.wm.sync(&grid)?;
+        // Name the current placeholders: keep the name of a tracked one within 1 m; skip those
+        // next to an explored one (the same frontier seen again); new ones get new names.
+        let mut taken = BTreeSet::new();
+        let mut ph_of = Vec::new();
+        for ph in &st.wm.places.placeholders {
+            if st
+                .registry
+                .iter()
+                .any(|e| e.explored.is_some() && dist(e.pos, ph.pos) < 0.8)
+            {
+                ph_of.push(None);
+                continue;
+            }
+            let hit = st.registry.iter().position(|e| {
+                e.explored.is_none() && !taken.contains(&e.id) && dist(e.pos, ph.pos) < 1.0
+            });
+            let k = match hit {
+                Some(k) => {
+                    st.registry[k].pos = ph.pos;
+                    k
+                }
+                None => {
+                    st.registry.push(PhEntry {
+                        id: st.next_ph,
+                        pos: ph.pos,
+                        explored: None,
+                    });
+                    st.next_ph += 1;
+                    st.registry.len() - 1
+                }
+            };
+            taken.insert(st.registry[k].id);
+            ph_of.push(Some(k));
+        }
+        // Forget unexplored placeholders that vanished.
+        let keep: Vec<bool> = st
+            .registry
+            .iter()
+            .map(|e| e.explored.is_some() || taken.contains(&e.id))
+            .collect();
+        let mut remap = Vec::new();
+        let mut j = 0;
+        for &k in &keep {
+            remap.push(if k { Some(j) } else { None });
+            if k {
+                j += 1;
+            }
+        }
+        let mut it = keep.iter();
+        st.registry.retain(|_| *it.next().unwrap_or(&true));
+        st.ph_of = ph_of.into_iter().map(|k| k.and_then(|k| remap[k])).collect();
+        Ok(())
+    }
+
+    /// The planning problem of the world as the agent knows it now.
+    fn snapshot(&self, goal: &str) -> Snapshot {
+        let st = self.state();
+        let wm = &st.wm;
+        let mut s = Snapshot::default();
+        let mut p = Problem::new();
+        for c in &self.knowledge.room_categories {
+            p = p.object(c, "category");
+        }
+        for c in &self.knowledge.object_classes {
+            p = p.object(&c.name, "label");
+            if c.landmark {
+                p = p.fact(&format!("landmark({})", c.name));
+            }
+        }
+        for (r, _) in wm.rooms() {
+            let n = format!("room{}", r.0);
+            p = p.object(&n, "room").init(&format!("category({n}) = unknown"));
+            s.rooms.insert(n, r);
+        }
+        let mut in_plan: BTreeMap<NodeIndex, RoomId> = BTreeMap::new();
+        for n in wm.places.graph.node_indices() {
+            if st.blocked.contains(&n) {
+                continue;
+            }
+            let Some(r) = self.room_for(n) else { continue };
+            let name = format!("place{}", n.index());
+            p = p.object(&name, "place").fact(&format!("in-room({name}, room{})", r.0));
+            s.pos.insert(name, wm.places.graph[n].pos);
+            in_plan.insert(n, r);
+        }
+        for (a, b, _) in wm.places.paths() {
+            if in_plan.contains_key(&a) && in_plan.contains_key(&b) {
+                p = p
+                    .fact(&format!("connected(place{}, place{})", a.index(), b.index()))
+                    .fact(&format!("connected(place{}, place{})", b.index(), a.index()));
+            }
+        }
+        let mut open: BTreeMap<RoomId, usize> = BTreeMap::new();
+        let mut add_ph = |p: Problem, name: &str, pos: [f64; 2], attach: Option<NodeIndex>, leads: String| -> (Problem, Option<RoomId>) {
+            let attach = attach
+                .filter(|a| in_plan.contains_key(a))
+                .or_else(|| {
+                    in_plan
+                        .keys()
+                        .min_by(|&&a, &&b| dist(wm.places.graph[a].pos, pos).total_cmp(&dist(wm.places.graph[b].pos, pos)))
+                        .copied()
+                });
+            let Some(a) = attach else { return (p, None) };
+            let r = in_plan[&a];
+            let p = p
+                .object(name, "place")
+                .fact(&format!("placeholder({name})"))
+                .fact(&format!("in-room({name}, room{})", r.0))
+                .fact(&format!("connected(place{}, {name})", a.index()))
+                .fact(&format!("connected({name}, place{})", a.index()))
+                .init(&format!("leads-to({name}) = {leads}"));
+            (p, Some(r))
+        };
+        for (i, ph) in wm.places.placeholders.iter().enumerate() {
+            let Some(Some(k)) = st.ph_of.get(i) else { continue };
+            let name = format!("placeholder{}", st.registry[*k].id);
+            let (q, r) = add_ph(p, &name, ph.pos, Some(ph.place), "unknown".into());
+            p = q;
+            if let Some(r) = r {
+                *open.entry(r).or_default() += 1;
+                s.pos.insert(name.clone(), ph.pos);
+                s.placeholders.insert(name, PhRef::Current(i));
+            }
+        }
+        for e in &st.registry {
+            let Some((_, led)) = e.explored else { continue };
+            let name = format!("placeholder{}", e.id);
+            let led_room = led.and_then(|n| wm.room_of(n));
+            let leads = led_room.map_or("none".to_string(), |r| format!("room{}", r.0));
+            let (q, r) = add_ph(p, &name, e.pos, None, leads);
+            p = q;
+            if r.is_some() {
+                s.pos.insert(name.clone(), e.pos);
+                s.placeholders.insert(name, PhRef::Explored(led_room));
+            }
+        }
+        for (r, _) in wm.rooms() {
+            let n = open.get(&r).copied().unwrap_or(0).min(9);
+            p = p.init(&format!("open-placeholders(room{}) = n{n}", r.0));
+        }
+        // Found objects (landmarks and sightings); landmarks searched in vain for the goal are
+        // left out so that the planner does not assume the goal on them again.
+        for (k, o) in st.objects.iter().enumerate() {
+            if st.exhausted.contains(&(k, goal.to_string())) {
+                continue;
+            }
+            let Some(r) = self.room_for(o.place) else { continue };
+            let name = format!("object{k}");
+            p = p
+                .object(&name, "object")
+                .init(&format!("class({name}) = {}", o.class))
+                .init(&format!("located-in({name}) = room{}", r.0))
+                .init(&format!("found({name}) = yes"));
+            let on = o
+                .on
+                .filter(|j| !st.exhausted.contains(&(*j, goal.to_string())))
+                .map_or("none".to_string(), |j| format!("object{j}"));
+            p = p.init(&format!("located-on({name}) = {on}"));
+            s.objects.insert(name, k);
+        }
+        for (l, loc) in st.cones.keys() {
+            match loc {
+                ConeLoc::Room(r) if s.rooms.contains_key(&format!("room{r}")) => {
+                    p = p.init(&format!("cones-in({l}, room{r}) = yes"));
+                }
+                ConeLoc::On(k) if s.objects.contains_key(&format!("object{k}")) => {
+                    p = p.init(&format!("cones-on({l}, object{k}) = yes"));
+                }
+                _ => {}
+            }
+        }
+        if let Some(cur) = self.current_place().filter(|c| in_plan.contains_key(c)) {
+            p = p
+                .init(&format!("robot-at = place{}", cur.index()))
+                .init(&format!("robot-room = room{}", in_plan[&cur].0));
+        }
+        s.problem = p.goal(&format!("reported({goal}) = yes"));
+        s
+    }
+
+    /// Drive to `target` along a path on the known map, updating the place map on the way.
+    fn go_to<R: Robot + ?Sized>(&mut self, robot: &mut R, target: [f64; 2]) -> Result<Result<(), String>, AgentError> {
+        let here = robot.pose();
+        let radius = self.config.robot_radius;
+        let grid = self.state().grid.clone();
+        let path = shortest_path(&Traversability::new(&grid, radius, false), [here.x, here.y], target, 1.0)
+            .or_else(|| shortest_path(&Traversability::new(&grid, radius, true), [here.x, here.y], target, 1.0));
+        let mut wps: Vec<[f64; 2]> = match &path {
+            Some(p) => p.points.iter().skip(1).step_by(5).copied().collect(),
+            None => Vec::new(),
+        };
+        wps.push(target);
+        let mut result = Ok(());
+        let mut prev = [here.x, here.y];
+        for w in wps {
+            if dist(prev, w) < 1e-6 {
+                continue;
+            }
+            let yaw = (w[1] - prev[1]).atan2(w[0] - prev[0]);
+            let r = robot.move_to(Pose2D::new(w[0], w[1], yaw));
+            let now = robot.pose();
+            let grid = robot.map_update().grid;
+            let st = self.state_mut();
+            st.wm.places.robot_moved(&grid, prev, [now.x, now.y]);
+            st.grid = grid;
+            prev = [now.x, now.y];
+            if let Err(e) = r {
+                result = Err(format!("action failed: {e}"));
+                break;
+            }
+        }
+        self.sync()?;
+        Ok(result)
+    }
+
+    /// Look around from where the robot stands for landmark classes: found landmarks become
+    /// locations, and their counts are evidence on the room's category (§III-A, eq. 1).
+    fn look_around<R: Robot + ?Sized>(&mut self, robot: &mut R, run: &mut Run) -> Result<(), AgentError> {
+        let (Some(place), Some(room)) = (self.current_place(), self.current_room()) else {
+            return Ok(());
+        };
+        let classes: Vec<String> = self
+            .knowledge
+            .object_classes
+            .iter()
+            .filter(|c| c.landmark)
+            .map(|c| c.name.clone())
+            .collect();
+        let cam = robot.camera();
+        let tilt = (-0.2f64).clamp(cam.tilt_deg[0].to_radians(), cam.tilt_deg[1].to_radians());
+        let pose = robot.pose();
+        let mut dets: Vec<crate::robot::Detection> = Vec::new();
+        let n_views = (std::f64::consts::TAU / cam.hfov_deg.to_radians().max(0.1)).ceil() as usize;
+        let mut failed = 0;
+        for k in 0..n_views {
+            let pan = (-std::f64::consts::PI + std::f64::consts::TAU * k as f64 / n_views as f64)
+                .clamp(cam.pan_deg[0].to_radians(), cam.pan_deg[1].to_radians());
+            match robot.process_view_cone(&ViewCone::new(pose, pan, tilt, 1.0), &classes) {
+                Ok(r) => dets.extend(r.detections.into_iter().filter(|d| d.confidence >= self.config.min_confidence)),
+                Err(_) => failed += 1,
+            }
+        }
+        // One sighting per object: merge detections of a class within 1 m.
+        let mut clusters: Vec<crate::robot::Detection> = Vec::new();
+        for d in dets {
+            match clusters
+                .iter_mut()
+                .find(|c| c.class == d.class && c.pose.planar_distance(d.pose.x, d.pose.y) < 1.0)
+            {
+                Some(c) if c.confidence < d.confidence => *c = d,
+                Some(_) => {}
+                None => clusters.push(d),
+            }
+        }
+        let mut counts: BTreeMap<String, u32> = classes.iter().map(|c| (c.clone(), 0)).collect();
+        for d in clusters {
+            let Some(near) = self.nearest_room_place([d.pose.x, d.pose.y]) else { continue };
+            if self.state().wm.room_of(near) != Some(room) {
+                continue; // seen through a door: another room
+            }
+            let known = self.state().objects.iter().any(|o| {
+                o.class == d.class && o.pos.planar_distance(d.pose.x, d.pose.y) < 1.0
+            });
+            if known {
+                continue;
+            }
+            *counts.entry(d.class.clone()).or_default() += 1;
+            let st = self.state_mut();
+            let lm = st.wm.found_landmark(near, &d.class)?;
+            st.objects.push(Known {
+                class: d.class.clone(),
+                pos: d.pose,
+                place: near,
+                landmark: Some(lm),
+                on: None,
+            });
+        }
+        let st = self.state_mut();
+        for (c, n) in &counts {
+            st.wm.saw_objects(place, c, *n, LOOK_COVERAGE)?;
+        }
+        st.looked.insert(room.0);
+        let seen: Vec<String> = counts
+            .iter()
+            .filter(|(_, n)| **n > 0)
+            .map(|(c, n)| format!("{c} x{n}"))
+            .collect();
+        let dist_txt: Vec<String> = self
+            .knowledge
+            .room_categories
+            .iter()
+            .filter_map(|c| {
+                let p = self.state().wm.concepts.p_category(room, c).ok()?;
+                Some(format!("P({c}) = {p:.3}"))
+            })
+            .collect();
+        run.emit(Event::Observed {
+            what: format!(
+                "looked around in room{}: {}{}; {}",
+                room.0,
+                if seen.is_empty() { "no landmarks".to_string() } else { seen.join(", ") },
+                if failed > 0 { format!(" ({failed} views failed)") } else { String::new() },
+                dist_txt.join(", ")
+            ),
+        });
+        Ok(())
+    }
+
+    /// Execute step `i` of `plan`.
+    fn execute<R: Robot + ?Sized>(
+        &mut self,
+        robot: &mut R,
+        plan: &ActivePlan,
+        i: usize,
+        snap: &Snapshot,
+        goal: &Goal,
+        run: &mut Run,
+    ) -> Result<StepEnd, AgentError> {
+        let st: &Step = &plan.steps[i];
+        let a: Vec<&str> = st.args.iter().map(String::as_str).collect();
+        match (st.schema.as_str(), a.as_slice()) {
+            ("move", [_, to, _]) | ("enter", [_, to, _]) => {
+                let Some(&target) = snap.pos.get(*to) else {
+                    return Ok(StepEnd::Replan(format!("{to} is no longer on the map")));
+                };
+                let from_room = self.current_room();
+                let res = self.go_to(robot, target)?;
+                if let Err(e) = res {
+                    if e.contains("Unreachable") {
+                        self.mark_unreachable(to, snap, from_room);
+                    }
+                    return Ok(StepEnd::Replan(e));
+                }
+                if st.schema == "enter" {
+                    return self.enter(robot, to, snap, from_room, run);
+                }
+                Ok(StepEnd::Continue)
+            }
+            ("explore-placeholder", [p, _, _, _]) => {
+                let here = robot.pose();
+                let _ = robot.move_to(Pose2D::new(here.x, here.y, here.yaw + std::f64::consts::PI));
+                let _ = robot.move_to(here);
+                self.state_mut().grid = robot.map_update().grid;
+                let room = self.current_room().map_or(0, |r| r.0);
+                self.set_explored(p, snap, room, None);
+                self.sync()?;
+                Ok(StepEnd::Continue)
+            }
+            ("createviewcones-in", [l, r, _]) => {
+                let Some(&room) = snap.rooms.get(*r) else {
+                    return Ok(StepEnd::Replan(format!("{r} is no longer a room")));
+                };
+                self.create_cones(robot, l, ConeLoc::Room(room.0), run);
+                Ok(StepEnd::Continue)
+            }
+            ("createviewcones-on", [l, lm, _, _]) => {
+                let Some(&k) = snap.objects.get(*lm) else {
+                    return Ok(StepEnd::Replan(format!("{lm} is not a known object")));
+                };
+                self.create_cones(robot, l, ConeLoc::On(k), run);
+                Ok(StepEnd::Continue)
+            }
+            ("searchforobject-in", [l, r, o]) => {
+                let Some(&room) = snap.rooms.get(*r) else {
+                    return Ok(StepEnd::Replan(format!("{r} is no longer a room")));
+                };
+                self.dt_search(robot, plan, i, l, ConeLoc::Room(room.0), o, goal, run)
+            }
+            ("searchforobject-on", [l, lm, o, _]) => {
+                let Some(&k) = snap.objects.get(*lm) else {
+                    return Ok(StepEnd::Replan(format!("{lm} is not a known object")));
+                };
+                self.dt_search(robot, plan, i, l, ConeLoc::On(k), o, goal, run)
+            }
+            ("reportposition", [o, _]) => Ok(StepEnd::Replan(format!(
+                "{o} was not found, so its position cannot be reported"
+            ))),
+            _ => Ok(StepEnd::Replan(format!("the executive cannot execute `{}`", st.display))),
+        }
+    }
+
+    fn set_explored(&mut self, name: &str, snap: &Snapshot, origin: u64, led: Option<NodeIndex>) {
+        let Some(id) = name.strip_prefix("placeholder").and_then(|s| s.parse::<usize>().ok()) else {
+            return;
+        };
+        let pos = snap.pos.get(name).copied();
+        let st = self.state_mut();
+        match st.registry.iter_mut().find(|e| e.id == id) {
+            Some(e) => {
+                if e.explored.is_none() {
+                    e.explored = Some((origin, led));
+                }
+            }
+            None => {
+                if let Some(pos) = pos {
+                    st.registry.push(PhEntry { id, pos, explored: Some((origin, led)) });
+                }
+            }
+        }
+    }
+
+    fn mark_unreachable(&mut self, name: &str, snap: &Snapshot, room: Option<RoomId>) {
+        if name.starts_with("placeholder") {
+            self.set_explored(name, snap, room.map_or(0, |r| r.0), None);
+        } else if let Some(n) = name.strip_prefix("place").and_then(|s| s.parse::<usize>().ok()) {
+            self.state_mut().blocked.insert(NodeIndex::new(n));
+        }
+    }
+
+    /// ENTER a placeholder: from its position go on into the space beyond it; the placeholder
+    /// then leads to the room the robot stands in if that is a room other than the one it
+    /// came from, else nowhere new.
+    fn enter<R: Robot + ?Sized>(
+        &mut self,
+        robot: &mut R,
+        name: &str,
+        snap: &Snapshot,
+        from_room: Option<RoomId>,
+        run: &mut Run,
+    ) -> Result<StepEnd, AgentError> {
+        let explored_led = name
+            .strip_prefix("placeholder")
+            .and_then(|s| s.parse::<usize>().ok())
+            .and_then(|id| self.state().registry.iter().find(|e| e.id == id))
+            .and_then(|e| e.explored)
+            .and_then(|(_, led)| led);
+        let beyond = match explored_led {
+            Some(n) => self.state().wm.places.graph.node_weight(n).map(|p| p.pos),
+            None => {
+                let Some(&pos) = snap.pos.get(name) else { return Ok(StepEnd::Continue) };
+                let from = self
+                    .current_place()
+                    .map(|c| self.state().wm.places.graph[c].pos)
+                    .unwrap_or(pos);
+                let here = robot.pose();
+                let (dx, dy) = (pos[0] - from[0], pos[1] - from[1]);
+                let (dx, dy) = if dx.hypot(dy) > 0.2 { (dx, dy) } else { (here.yaw.cos(), here.yaw.sin()) };
+                let n = dx.hypot(dy).max(1e-9);
+                Some([here.x + ENTER_DEPTH * dx / n, here.y + ENTER_DEPTH * dy / n])
+            }
+        };
+        if let Some(b) = beyond {
+            if let Err(e) = self.go_to(robot, b)? {
+                run.emit(Event::Observed { what: format!("could not go beyond {name}: {e}") });
+            }
+        }
+        let now = self.current_room();
+        let led = match (now, from_room) {
+            (Some(n), Some(f)) if n != f => self.current_place(),
+            (Some(_), None) => self.current_place(),
+            _ => None,
+        };
+        self.set_explored(name, snap, from_room.map_or(0, |r| r.0), led);
+        self.sync()?;
+        Ok(StepEnd::Continue)
+    }
+
+    /// CREATEVIEWCONES: view planning by coverage over the location's cells (Sjöö et al.,
+    /// `004` §2.1) with line of sight on the known map.
+    fn create_cones<R: Robot + ?Sized>(&mut self, robot: &mut R, label: &str, loc: ConeLoc, run: &mut Run) {
+        let Some(class) = self.knowledge.class(label).cloned() else { return };
+        let st = self.state();
+        let grid = &st.grid;
+        let res = grid.resolution();
+        let wm = &st.wm;
+        let cam = robot.camera();
+        let trav = Traversability::new(grid, self.config.robot_radius, false);
+        let in_room = |x: f64, y: f64, r: u64| {
+            self.nearest_room_place([x, y]).and_then(|n| wm.room_of(n)) == Some(RoomId(r))
+        };
+        let (points, center, reach): (Vec<[f64; 3]>, Option<[f64; 2]>, f64) = match loc {
+            ConeLoc::Room(r) => {
+                let z = if class.landmark { class.size[2] * 0.5 } else { SMALL_OBJECT_Z };
+                let step = (POINT_SPACING / res).round().max(1.0) as usize;
+                let mut pts = Vec::new();
+                for row in (0..grid.height()).step_by(step) {
+                    for col in (0..grid.width()).step_by(step) {
+                        if grid.get(col, row) == Cell::Unknown {
+                            continue;
+                        }
+                        let (x, y) = grid.cell_center(col as i64, row as i64);
+                        if in_room(x, y, r) {
+                            pts.push([x, y, z]);
+                        }
+                    }
+                }
+                (pts, None, 0.0)
+            }
+            ConeLoc::On(k) => {
+                let o = &st.objects[k];
+                let lm = self.knowledge.class(&o.class);
+                let (w, h) = lm.map_or((1.0, 0.75), |c| (c.size[0].max(c.size[1]), c.size[2]));
+                let z = h + class.size[2] * 0.5;
+                let mut pts = Vec::new();
+                let n = ((w / 0.2).ceil() as i64).max(1);
+                for i in -n / 2..=n / 2 {
+                    for j in -n / 2..=n / 2 {
+                        pts.push([o.pos.x + 0.2 * i as f64, o.pos.y + 0.2 * j as f64, z]);
+                    }
+                }
+                (pts, Some([o.pos.x, o.pos.y]), class.detection_range[1] + 0.5)
+            }
+        };
+        let step = (POSE_SPACING / res).round().max(1.0) as usize;
+        let mut poses = Vec::new();
+        for row in (0..grid.height()).step_by(step) {
+            for col in (0..grid.width()).step_by(step) {
+                if grid.get(col, row) != Cell::Free || !trav.ok(col as i64, row as i64) {
+                    continue;
+                }
+                let (x, y) = grid.cell_center(col as i64, row as i64);
+                let ok = match (loc, center) {
+                    (ConeLoc::Room(r), _) => in_room(x, y, r),
+                    (_, Some(c)) => dist([x, y], c) <= reach,
+                    _ => false,
+                };
+                if ok {
+                    poses.push([x, y, 0.0]);
+                }
+            }
+        }
+        let camera = CameraModel {
+            hfov: cam.hfov_deg.to_radians(),
+            vfov: cam.vfov_deg.to_radians(),
+            pan_limits: cam.pan_deg.map(f64::to_radians),
+            tilt_limits: cam.tilt_deg.map(f64::to_radians),
+            height: cam.height,
+        };
+        let range = DetectionRange { min: class.detection_range[0], max: class.detection_range[1] };
+        // The grid holds furniture footprints: stop the sight line short of the target point.
+        let los = |a: [f64; 3], b: [f64; 3]| {
+            let d = dist([a[0], a[1]], [b[0], b[1]]);
+            if d <= LOS_SLACK {
+                return true;
+            }
+            let t = (d - LOS_SLACK) / d;
+            let e = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+            line_of_sight(grid, [a[0], a[1]], e, true)
+        };
+        let planned = if points.is_empty() || poses.is_empty() {
+            None
+        } else {
+            create_view_cones(&points, &poses, &camera, range, los).ok()
+        };
+        let set = match planned {
+            Some(mut p) => {
+                p.views.truncate(self.config.max_cones);
+                let n_points = points.len();
+                let covered: BTreeSet<usize> = p.views.iter().flat_map(|v| v.covered.iter().copied()).collect();
+                let share = covered.len() as f64 / n_points.max(1) as f64;
+                ConeSet { cells: p.cone_cells(), views: p.views, n_points, covered_share: share }
+            }
+            None => ConeSet { views: Vec::new(), cells: Vec::new(), n_points: 0, covered_share: 0.0 },
+        };
+        run.emit(Event::Observed {
+            what: format!(
+                "{} view cones for {label} cover {:.0}% of {} points",
+                set.views.len(),
+                100.0 * set.covered_share,
+                set.n_points
+            ),
+        });
+        self.state_mut().cones.insert((label.to_string(), loc), set);
+    }
+
+    /// SEARCHFOROBJECT: a closed-loop view-cone POMDP session over the location's cones
+    /// (`002` §II-A.2).
+    #[allow(clippy::too_many_arguments)]
+    fn dt_search<R: Robot + ?Sized>(
+        &mut self,
+        robot: &mut R,
+        plan: &ActivePlan,
+        i: usize,
+        label: &str,
+        loc: ConeLoc,
+        obj: &str,
+        goal: &Goal,
+        run: &mut Run,
+    ) -> Result<StepEnd, AgentError> {
+        let display = plan.steps[i].display.clone();
+        if !self.state().cones.contains_key(&(label.to_string(), loc)) {
+            self.create_cones(robot, label, loc, run);
+        }
+        let set = self.state().cones[&(label.to_string(), loc)].clone();
+        let location = match loc {
+            ConeLoc::Room(r) => Location::Room(RoomId(r)),
+            ConeLoc::On(k) => match self.state().objects[k].landmark {
+                Some(l) => Location::Landmark(l, Relation::On),
+                None => return Ok(StepEnd::Replan(format!("object{k} is not a landmark"))),
+            },
+        };
+        let p_loc = self.state().wm.concepts.p_object_at(location, label)?;
+        run.metrics.dt_sessions += 1;
+        run.emit(Event::DtSessionStarted { search: display.clone(), cones: set.views.len(), p_location: p_loc });
+        let mut outcome: Option<crate::robot::Detection> = None;
+        let mut steps = 0;
+        if !set.views.is_empty() {
+            let weights = vec![1.0; set.n_points];
+            let prior = cone_priors(&set.cells, &weights, p_loc.clamp(0.0, 1.0));
+            let here = robot.pose();
+            let positions: Vec<[f64; 2]> = set.views.iter().map(|v| [v.pose[0], v.pose[1]]).collect();
+            let (from_start, travel) = euclidean_travel([here.x, here.y], &positions, self.config.travel_cost_per_m);
+            let sensor = &self.knowledge.sensor;
+            let session = prior.and_then(|cone_prior| {
+                ViewConeSession::new(
+                    &ViewConeProblem {
+                        cone_prior,
+                        travel_from_start: from_start,
+                        travel,
+                        process_cost: self.config.process_cost,
+                        false_negative: sensor.false_negative,
+                        false_positive: sensor.false_positive,
+                        rewards: DecisionRewards::default(),
+                        discount: 0.95,
+                    },
+                    self.config.session.clone(),
+                )
+            });
+            let mut session = match session {
+                Ok(s) => s,
+                Err(e) => {
+                    run.emit(Event::DtSessionEnded { outcome: format!("failed: {e}"), steps: 0 });
+                    return Ok(StepEnd::Replan(format!("the view-cone POMDP failed: {e}")));
+                }
+            };
+            let mut best: Vec<Option<crate::robot::Detection>> = vec![None; set.views.len()];
+            for _ in 0..MAX_DT_STEPS {
+                let t0 = Instant::now();
+                let a = session.next_action();
+                run.metrics.dt_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+                match a {
+                    Ok(ViewConeAction::Process { cone }) => {
+                        let v = &set.views[cone];
+                        let _ = self.go_to(robot, [v.pose[0], v.pose[1]])?;
+                        let vc = ViewCone::new(Pose2D::new(v.pose[0], v.pose[1], v.pose[2]), v.pan, v.tilt, 1.0);
+                        let mut rep = robot.process_view_cone(&vc, &[label.to_string()]);
+                        if rep.is_err() {
+                            rep = robot.process_view_cone(&vc, &[label.to_string()]);
+                        }
+                        self.state_mut().grid = robot.map_update().grid;
+                        let det = match rep {
+                            Ok(r) => r
+                                .detections
+                                .into_iter()
+                                .filter(|d| d.class == label && d.confidence >= self.config.min_confidence)
+                                .filter(|d| self.detection_in(d, loc))
+                                .max_by(|a, b| a.confidence.total_cmp(&b.confidence)),
+                            Err(_) => None,
+                        };
+                        let detected = det.is_some();
+                        if let Some(d) = det {
+                            if best[cone].as_ref().is_none_or(|b| b.confidence < d.confidence) {
+                                best[cone] = Some(d);
+                            }
+                        }
+                        run.emit(Event::DtAction {
+                            action: format!(
+                                "PROCESSVIEWCONE {cone} from ({:.2}, {:.2}) pan {:.2} tilt {:.2}",
+                                v.pose[0], v.pose[1], v.pan, v.tilt
+                            ),
+                            detected: Some(detected),
+                        });
+                        steps += 1;
+                        if session.observe(detected).is_err() {
+                            break;
+                        }
+                    }
+                    Ok(ViewConeAction::DeclareFound { cone }) => {
+                        run.emit(Event::DtAction { action: format!("DECLARE-FOUND cone {cone}"), detected: None });
+                        outcome = best[cone].clone();
+                        break;
+                    }
+                    Ok(ViewConeAction::DeclareAbsent) | Err(_) => {
+                        run.emit(Event::DtAction { action: "DECLARE-ABSENT".into(), detected: None });
+                        break;
+                    }
+                }
+            }
+            self.sync()?;
+        }
+        run.emit(Event::DtSessionEnded {
+            outcome: if outcome.is_some() { "found".into() } else { "absent".into() },
+            steps,
+        });
+        let virtual_obj = obj.starts_with("new-object");
+        let assumption = plan.steps[..i]
+            .iter()
+            .filter(|s| s.assumption && s.args.iter().any(|a| a == obj))
+            .map(|s| s.display.clone())
+            .next_back();
+        match outcome {
+            Some(d) => {
+                let place = self.nearest_room_place([d.pose.x, d.pose.y]).or_else(|| self.current_place());
+                let Some(place) = place else {
+                    return Ok(StepEnd::Replan("the robot is on no place".into()));
+                };
+                let k = self.state().objects.len();
+                let landmark = if self.knowledge.class(label).is_some_and(|c| c.landmark) {
+                    Some(self.state_mut().wm.found_landmark(place, label)?)
+                } else {
+                    None
+                };
+                let on = match loc {
+                    ConeLoc::On(j) => Some(j),
+                    ConeLoc::Room(_) => None,
+                };
+                self.state_mut().objects.push(Known { class: label.to_string(), pos: d.pose, place, landmark, on });
+                let name = format!("object{k}");
+                if let Some(a) = &assumption {
+                    run.emit(Event::AssumptionConfirmed {
+                        assumption: a.clone(),
+                        evidence: format!("{obj} is {name}, a {label} seen with confidence {:.2}", d.confidence),
+                    });
+                }
+                if label == goal.class {
+                    return Ok(StepEnd::Found(FoundObject { name, class: label.into(), pose: d.pose, confidence: d.confidence }));
+                }
+                Ok(StepEnd::Replan(if virtual_obj {
+                    format!("{obj} matched to the real {label} {name}")
+                } else {
+                    format!("found {label} {name}")
+                }))
+            }
+            None => {
+                let q = ((1.0 - self.knowledge.sensor.false_negative) * set.covered_share).clamp(0.0, 0.99);
+                if q > 0.0 {
+                    self.state_mut().wm.concepts.mark_searched(location, label, q)?;
+                }
+                if let ConeLoc::On(k) = loc {
+                    self.state_mut().exhausted.insert((k, label.to_string()));
+                }
+                let p_now = self.state().wm.concepts.p_object_at(location, label).unwrap_or(0.0);
+                let why = format!("no {label} found by {display}; P(ObjectAt) {p_loc:.3} -> {p_now:.3}");
+                if let Some(a) = &assumption {
+                    run.emit(Event::AssumptionViolated { assumption: a.clone(), reason: why.clone() });
+                }
+                Ok(StepEnd::Replan(why))
+            }
+        }
+    }
+
+    /// Whether a detection lies in the searched location (and, for landmarks, is not one the
+    /// agent already knows).
+    fn detection_in(&self, d: &crate::robot::Detection, loc: ConeLoc) -> bool {
+        let st = self.state();
+        let known = st
+            .objects
+            .iter()
+            .any(|o| o.class == d.class && o.pos.planar_distance(d.pose.x, d.pose.y) < 0.8);
+        match loc {
+            ConeLoc::On(k) => {
+                let o = &st.objects[k];
+                let half = self
+                    .knowledge
+                    .class(&o.class)
+                    .map_or(0.6, |c| 0.5 * c.size[0].max(c.size[1]));
+                !known && o.pos.planar_distance(d.pose.x, d.pose.y) <= half + ON_SLACK
+            }
+            ConeLoc::Room(r) => {
+                !known
+                    && self
+                        .nearest_room_place([d.pose.x, d.pose.y])
+                        .and_then(|n| st.wm.room_of(n))
+                        == Some(RoomId(r))
+            }
+        }
+    }
+}
+
+/// Share of a room a look-around from one place is taken to cover (the count evidence of
+/// `observe_objects` is thinned by it).
+const LOOK_COVERAGE: f64 = 0.8;
+/// How far past a placeholder the robot goes when entering it, metres.
+const ENTER_DEPTH: f64 = 1.5;
+/// Height of small objects searched in a room (on furniture), metres.
+const SMALL_OBJECT_Z: f64 = 0.8;
+/// Spacing of the points of a room searched by view cones, metres.
+const POINT_SPACING: f64 = 0.4;
+/// Spacing of candidate view poses, metres.
+const POSE_SPACING: f64 = 0.7;
+/// Sight lines stop this short of the target point (furniture footprints are in the grid).
+const LOS_SLACK: f64 = 0.45;
+/// Slack around a landmark's footprint for detections "on" it, metres.
+const ON_SLACK: f64 = 0.3;
+/// Guard on the number of DT decisions per session.
+const MAX_DT_STEPS: usize = 60;

@@ -1,0 +1,235 @@
+//! The plan trace: every decision of the agent as an [`Event`], rendered as text in the style of
+//! the papers' listings (Aydemir et al. 2011, `002` Fig. 3: `ASSUME-LEADS-TO-ROOM place1
+//! kitchen`, `SEARCHFOROBJECT cerealbox ON new-object1 new-object2`) and as JSON lines.
+//!
+//! Events carry no wall-clock times, so the same seed gives byte-identical JSON lines; timings
+//! are kept in the search metrics instead.
+
+use serde::Serialize;
+
+/// One event of the plan trace.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "event", rename_all = "snake_case")]
+pub enum Event {
+    /// The search for a goal started.
+    Started {
+        /// The object class searched for.
+        goal: String,
+        /// Robot pose `[x, y, yaw]`.
+        pose: [f64; 3],
+    },
+    /// The continual planner made a plan.
+    PlanMade {
+        /// 1-based plan number within this search.
+        plan: usize,
+        /// Why a (new) plan was needed.
+        reason: String,
+        /// The plan's steps in listing form, assumptions first.
+        steps: Vec<String>,
+        /// Σ cost of the plan.
+        cost: f64,
+        /// Π p of the plan.
+        probability: f64,
+    },
+    /// An action of the plan started.
+    ActionStarted {
+        /// The listing line.
+        action: String,
+    },
+    /// An action of the plan finished.
+    ActionFinished {
+        /// The listing line.
+        action: String,
+        /// `ok`, or the failure.
+        outcome: String,
+        /// Robot pose `[x, y, yaw]` afterwards.
+        pose: [f64; 3],
+        /// Odometry so far, metres.
+        path_length: f64,
+    },
+    /// What the robot learned (e.g. landmarks seen on entering a room and the room's category).
+    Observed {
+        /// A description.
+        what: String,
+    },
+    /// An assumption of the plan held.
+    AssumptionConfirmed {
+        /// The assumption's listing line.
+        assumption: String,
+        /// What confirmed it.
+        evidence: String,
+    },
+    /// An assumption of the plan was contradicted or became too unlikely.
+    AssumptionViolated {
+        /// The assumption's listing line (or the monitor's description).
+        assumption: String,
+        /// Why.
+        reason: String,
+    },
+    /// A decision-theoretic (view-cone POMDP) session started.
+    DtSessionStarted {
+        /// The SEARCHFOROBJECT line that started it.
+        search: String,
+        /// Number of view cones.
+        cones: usize,
+        /// P(ObjectAt L) spread over the cones.
+        p_location: f64,
+    },
+    /// One action of the DT session.
+    DtAction {
+        /// `PROCESSVIEWCONE k` with the view's pose and pan.
+        action: String,
+        /// Whether the target class was detected (for processed cones).
+        detected: Option<bool>,
+    },
+    /// A DT session ended.
+    DtSessionEnded {
+        /// `found` or `absent`.
+        outcome: String,
+        /// Cones processed.
+        steps: usize,
+    },
+    /// The goal was reached: the object's position was reported.
+    GoalReached {
+        /// The reported object.
+        object: String,
+        /// Its estimated position `[x, y, z]`.
+        pose: [f64; 3],
+    },
+    /// The agent gave up.
+    GaveUp {
+        /// Why.
+        reason: String,
+    },
+}
+
+fn xy(p: &[f64]) -> String {
+    let v: Vec<String> = p.iter().map(|x| format!("{x:.2}")).collect();
+    format!("({})", v.join(", "))
+}
+
+impl Event {
+    /// The event as one JSON line (no trailing newline).
+    pub fn json_line(&self) -> String {
+        // Serialising plain data with finite or non-finite floats cannot fail with serde_json
+        // (non-finite numbers become null).
+        serde_json::to_string(self).unwrap_or_else(|e| format!("{{\"event\":\"error\",\"message\":\"{e}\"}}"))
+    }
+
+    /// The event as text in the papers' listing style (one or more lines, each ending in `\n`).
+    pub fn text(&self) -> String {
+        match self {
+            Event::Started { goal, pose } => {
+                format!("search for {goal} from {}\n", xy(&pose[..2]))
+            }
+            Event::PlanMade {
+                plan,
+                reason,
+                steps,
+                cost,
+                probability,
+            } => {
+                let mut s = format!(
+                    "plan {plan} ({reason}; cost {cost:.1}, success probability {probability:.4}):\n"
+                );
+                for st in steps {
+                    s.push_str("    ");
+                    s.push_str(st);
+                    s.push('\n');
+                }
+                s
+            }
+            Event::ActionStarted { action } => format!("  > {action}\n"),
+            Event::ActionFinished {
+                action,
+                outcome,
+                pose,
+                path_length,
+            } => format!(
+                "  < {action}: {outcome}; robot at {}, path {path_length:.1} m\n",
+                xy(&pose[..2])
+            ),
+            Event::Observed { what } => format!("  * {what}\n"),
+            Event::AssumptionConfirmed {
+                assumption,
+                evidence,
+            } => format!("  + assumption confirmed: {assumption} ({evidence})\n"),
+            Event::AssumptionViolated { assumption, reason } => {
+                format!("  ! assumption violated: {assumption}: {reason}\n")
+            }
+            Event::DtSessionStarted {
+                search,
+                cones,
+                p_location,
+            } => format!(
+                "  DT session started: {search}, {cones} view cones, P(ObjectAt L) = {p_location:.3}\n"
+            ),
+            Event::DtAction { action, detected } => match detected {
+                Some(true) => format!("      {action}: detected\n"),
+                Some(false) => format!("      {action}: not detected\n"),
+                None => format!("      {action}\n"),
+            },
+            Event::DtSessionEnded { outcome, steps } => {
+                format!("  DT session ended: {outcome} after {steps} view cones\n")
+            }
+            Event::GoalReached { object, pose } => {
+                format!("goal reached: REPORTPOSITION {object} at {}\n", xy(pose))
+            }
+            Event::GaveUp { reason } => format!("gave up: {reason}\n"),
+        }
+    }
+}
+
+/// A receiver of trace events as they happen (e.g. a printer that flushes each line).
+pub trait TraceSink {
+    /// Called once per event, in order.
+    fn event(&mut self, e: &Event);
+}
+
+impl<F: FnMut(&Event)> TraceSink for F {
+    fn event(&mut self, e: &Event) {
+        self(e)
+    }
+}
+
+/// Render a whole trace as text.
+pub fn render_text(events: &[Event]) -> String {
+    events.iter().map(Event::text).collect()
+}
+
+/// Render a whole trace as JSON lines (each ending in `\n`).
+pub fn render_json_lines(events: &[Event]) -> String {
+    events
+        .iter()
+        .map(|e| {
+            let mut s = e.json_line();
+            s.push('\n');
+            s
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plan_event_renders_one_listing_line_per_step_and_valid_json() {
+        let e = Event::PlanMade {
+            plan: 1,
+            reason: "initial".into(),
+            steps: vec![
+                "ASSUME-LEADS-TO-ROOM placeholder0 kitchen".into(),
+                "MOVE placeholder0".into(),
+            ],
+            cost: 3.0,
+            probability: 0.25,
+        };
+        let t = e.text();
+        assert!(t.contains("\n    ASSUME-LEADS-TO-ROOM placeholder0 kitchen\n"));
+        assert_eq!(t.lines().count(), 3);
+        let v: serde_json::Value = serde_json::from_str(&e.json_line()).unwrap();
+        assert_eq!(v["event"], "plan_made");
+        assert_eq!(v["steps"][1], "MOVE placeholder0");
+    }
+}
