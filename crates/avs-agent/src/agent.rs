@@ -13,13 +13,14 @@ use avs_map::grid::{Cell, OccupancyGrid};
 use avs_map::nav::{shortest_path, Traversability};
 use avs_map::places::{dist, PlaceMapParams};
 use avs_map::raycast::line_of_sight;
-use avs_plan::continual::{ActivePlan, ContinualOptions, ContinualPlanner, Decision, Replan, Step, Verdict};
+use avs_plan::continual::{
+    ActivePlan, ContinualOptions, ContinualPlanner, Decision, Replan, Step, Verdict,
+};
 use avs_plan::domain::Domain;
 use avs_plan::problem::{Functions, Problem};
 use avs_pomdp::{
-    cone_priors, create_view_cones, euclidean_travel, CameraModel, DecisionRewards,
-    DetectionRange, PlannedView, SessionOptions, ViewConeAction, ViewConeProblem,
-    ViewConeSession,
+    cone_priors, create_view_cones, euclidean_travel, CameraModel, DecisionRewards, DetectionRange,
+    PlannedView, SessionOptions, ViewConeAction, ViewConeProblem, ViewConeSession,
 };
 use petgraph::graph::NodeIndex;
 use serde::Serialize;
@@ -84,11 +85,15 @@ impl Default for AgentConfig {
     fn default() -> Self {
         Self {
             places: PlaceMapParams::default(),
-            planner: ContinualOptions::default(),
+            planner: {
+                let mut o = ContinualOptions::default();
+                o.search.mode = avs_plan::Mode::Fast;
+                o
+            },
             session: SessionOptions::default(),
             max_plans: 40,
             max_actions: 150,
-            min_confidence: 0.3,
+            min_confidence: 0.5,
             robot_radius: 0.25,
             process_cost: 1.0,
             travel_cost_per_m: 0.5,
@@ -204,10 +209,23 @@ struct ConeSet {
     covered_share: f64,
 }
 
+/// A placeholder offered to the planner: a frontier placeholder of the place map, or a known
+/// but unvisited free area (rooms exist only where the robot has been).
+#[derive(Debug, Clone, Copy)]
+struct Cand {
+    pos: [f64; 2],
+    attach: NodeIndex,
+    /// Its id in the conceptual map.
+    cm_id: u64,
+}
+
+/// Conceptual-map ids of unvisited-area placeholders start here.
+const EXTRA_BASE: u64 = 1_000_000;
+
 /// What a plan name stands for.
 #[derive(Debug, Clone, Copy)]
 enum PhRef {
-    Current(usize),
+    Current(u64),
     Explored(Option<RoomId>),
 }
 
@@ -217,6 +235,8 @@ struct Snapshot {
     problem: Problem,
     pos: HashMap<String, [f64; 2]>,
     placeholders: HashMap<String, PhRef>,
+    /// Position of the place each placeholder hangs off.
+    attach: HashMap<String, [f64; 2]>,
     rooms: HashMap<String, RoomId>,
     objects: HashMap<String, usize>,
 }
@@ -240,14 +260,15 @@ impl Functions for Probs<'_> {
                 return Some(dist(*self.snap.pos.get(*a)?, *self.snap.pos.get(*b)?));
             }
             ("p-leads-to-room", [ph, c]) => match self.snap.placeholders.get(*ph)? {
-                PhRef::Current(i) => self
-                    .cm
-                    .p_category_placeholder(PlaceholderId(*i as u64), c)
-                    .ok()?,
+                PhRef::Current(i) => self.cm.p_category_placeholder(PlaceholderId(*i), c).ok()?,
                 PhRef::Explored(Some(r)) => self.cm.p_category(*r, c).ok()?,
                 PhRef::Explored(None) => 0.0,
             },
-            ("p-category", [r, c]) => self.cm.p_category(*self.snap.rooms.get(*r)?, c).ok()?,
+            ("p-category", [r, c]) => match self.snap.rooms.get(*r) {
+                Some(&room) => self.cm.p_category(room, c).ok()?,
+                // A hypothesised room: the prior (its category is assumed with the room).
+                None => *m.prior.get(cat(c)?)?,
+            },
             ("p-object-in", [l, r, c]) => {
                 let k = cat(c)?;
                 match self.snap.rooms.get(*r) {
@@ -263,7 +284,11 @@ impl Functions for Probs<'_> {
             ("p-detect", [_]) => self.p_detect,
             _ => return None,
         };
-        Some(if p.is_finite() { p.clamp(P_MIN, 1.0) } else { P_MIN })
+        Some(if p.is_finite() {
+            p.clamp(P_MIN, 1.0)
+        } else {
+            P_MIN
+        })
     }
 }
 
@@ -281,8 +306,14 @@ struct State {
     exhausted: BTreeSet<(usize, String)>,
     /// Places that proved unreachable.
     blocked: BTreeSet<NodeIndex>,
-    /// Registry index of each current place-map placeholder.
-    ph_of: Vec<Option<usize>>,
+    /// The placeholders offered to the planner: registry index and what it is.
+    phs: Vec<(usize, Cand)>,
+    /// Conceptual-map ids of the unvisited-area placeholders set at the last sync.
+    extra_ids: Vec<u64>,
+    /// The plan place the robot last moved to, with its position.
+    last_target: Option<(String, [f64; 2])>,
+    /// The robot's position as last seen.
+    at: [f64; 2],
 }
 
 /// The agent: one per robot; [`Agent::search`] once per goal. The maps are kept between goals.
@@ -321,12 +352,32 @@ fn pose3(p: Pose2D) -> [f64; 3] {
 
 impl Agent {
     /// An agent for a planning domain and a knowledge file.
-    pub fn new(domain: Domain, knowledge: Knowledge, config: AgentConfig) -> Result<Self, AgentError> {
+    pub fn new(
+        domain: Domain,
+        knowledge: Knowledge,
+        config: AgentConfig,
+    ) -> Result<Self, AgentError> {
         for (field, value, ok) in [
-            ("min_confidence", config.min_confidence, (0.0..=1.0).contains(&config.min_confidence)),
-            ("robot_radius", config.robot_radius, config.robot_radius.is_finite() && config.robot_radius >= 0.0),
-            ("process_cost", config.process_cost, config.process_cost.is_finite() && config.process_cost >= 0.0),
-            ("travel_cost_per_m", config.travel_cost_per_m, config.travel_cost_per_m.is_finite() && config.travel_cost_per_m >= 0.0),
+            (
+                "min_confidence",
+                config.min_confidence,
+                (0.0..=1.0).contains(&config.min_confidence),
+            ),
+            (
+                "robot_radius",
+                config.robot_radius,
+                config.robot_radius.is_finite() && config.robot_radius >= 0.0,
+            ),
+            (
+                "process_cost",
+                config.process_cost,
+                config.process_cost.is_finite() && config.process_cost >= 0.0,
+            ),
+            (
+                "travel_cost_per_m",
+                config.travel_cost_per_m,
+                config.travel_cost_per_m.is_finite() && config.travel_cost_per_m >= 0.0,
+            ),
         ] {
             if !ok {
                 return Err(AgentError::Config {
@@ -347,7 +398,11 @@ impl Agent {
     }
 
     /// Search for `goal` with `robot`; the trace is returned in the report.
-    pub fn search<R: Robot + ?Sized>(&mut self, robot: &mut R, goal: Goal) -> Result<SearchReport, AgentError> {
+    pub fn search<R: Robot + ?Sized>(
+        &mut self,
+        robot: &mut R,
+        goal: Goal,
+    ) -> Result<SearchReport, AgentError> {
         let mut sink = |_: &Event| {};
         self.search_with(robot, goal, &mut sink)
     }
@@ -394,7 +449,10 @@ impl Agent {
                 cones: BTreeMap::new(),
                 exhausted: BTreeSet::new(),
                 blocked: BTreeSet::new(),
-                ph_of: Vec::new(),
+                phs: Vec::new(),
+                extra_ids: Vec::new(),
+                last_target: None,
+                at: [0.0, 0.0],
             });
             // Turn in place so the laser sees all around, then drop the first place.
             let p = robot.pose();
@@ -418,11 +476,15 @@ impl Agent {
     }
 
     fn state_mut(&mut self) -> &mut State {
-        self.state.as_mut().expect("initialised at the start of a search")
+        self.state
+            .as_mut()
+            .expect("initialised at the start of a search")
     }
 
     fn state(&self) -> &State {
-        self.state.as_ref().expect("initialised at the start of a search")
+        self.state
+            .as_ref()
+            .expect("initialised at the start of a search")
     }
 
     fn main_loop<R: Robot + ?Sized>(
@@ -435,7 +497,10 @@ impl Agent {
         let p_detect = 1.0 - self.knowledge.sensor.false_negative;
         loop {
             if run.metrics.plans >= self.config.max_plans {
-                let r = format!("gave up after {} plans without finding a {}", run.metrics.plans, goal.class);
+                let r = format!(
+                    "gave up after {} plans without finding a {}",
+                    run.metrics.plans, goal.class
+                );
                 run.emit(Event::GaveUp { reason: r.clone() });
                 return Ok((None, r));
             }
@@ -443,7 +508,11 @@ impl Agent {
             let t0 = Instant::now();
             let decision = {
                 let st = self.state();
-                let f = Probs { snap: &snap, cm: &st.wm.concepts, p_detect };
+                let f = Probs {
+                    snap: &snap,
+                    cm: &st.wm.concepts,
+                    p_detect,
+                };
                 self.planner.plan(&snap.problem, &f)
             };
             run.metrics.plan_ms.push(t0.elapsed().as_secs_f64() * 1e3);
@@ -473,6 +542,32 @@ impl Agent {
                 probability: plan.probability,
             });
             reason = "the plan ended without reaching the goal".to_string();
+            // Assumptions the planner chose although already below the monitor's bound are
+            // not a reason to replan later (the planner would return the same plan).
+            let accepted: BTreeSet<String> = {
+                let stt = self.state();
+                let f = Probs {
+                    snap: &snap,
+                    cm: &stt.wm.concepts,
+                    p_detect,
+                };
+                let mut acc = BTreeSet::new();
+                let mut probe = plan.clone();
+                for _ in 0..plan.steps.len() {
+                    match self.planner.monitor(&probe, 0, &snap.problem, &f) {
+                        Ok(Verdict::Replan(Replan::AssumptionUnlikely {
+                            step, action, ..
+                        })) => {
+                            acc.insert(action);
+                            // Look for more: drop that step from the probe's check.
+                            probe.steps[step].probability = 1.0;
+                            probe.steps.remove(step);
+                        }
+                        _ => break,
+                    }
+                }
+                acc
+            };
             let mut i = 0;
             while i < plan.steps.len() {
                 let st = plan.steps[i].clone();
@@ -481,13 +576,24 @@ impl Agent {
                     continue;
                 }
                 if run.metrics.actions >= self.config.max_actions {
-                    let r = format!("gave up after {} actions without finding a {}", run.metrics.actions, goal.class);
+                    let r = format!(
+                        "gave up after {} actions without finding a {}",
+                        run.metrics.actions, goal.class
+                    );
                     run.emit(Event::GaveUp { reason: r.clone() });
                     return Ok((None, r));
                 }
                 run.metrics.actions += 1;
-                run.emit(Event::ActionStarted { action: st.display.clone() });
-                let end = self.execute(robot, &plan, i, &snap, goal, run)?;
+                run.emit(Event::ActionStarted {
+                    action: st.display.clone(),
+                });
+                // A map update the world model refuses (e.g. a room renamed under a search)
+                // ends the step, not the search: the agent replans from what it knows.
+                let end = self
+                    .execute(robot, &plan, i, &snap, goal, run)
+                    .unwrap_or_else(|e| {
+                        StepEnd::Replan(format!("the world model refused an update: {e}"))
+                    });
                 let outcome = match &end {
                     StepEnd::Replan(r) if r.starts_with("action failed") => r.clone(),
                     _ => "ok".to_string(),
@@ -500,12 +606,17 @@ impl Agent {
                 });
                 match end {
                     StepEnd::Found(f) => {
-                        run.emit(Event::ActionStarted { action: format!("REPORTPOSITION {}", f.name) });
+                        run.emit(Event::ActionStarted {
+                            action: format!("REPORTPOSITION {}", f.name),
+                        });
                         run.emit(Event::GoalReached {
                             object: f.name.clone(),
                             pose: [f.pose.x, f.pose.y, f.pose.z],
                         });
-                        let r = format!("found {} {} at ({:.2}, {:.2}, {:.2})", f.class, f.name, f.pose.x, f.pose.y, f.pose.z);
+                        let r = format!(
+                            "found {} {} at ({:.2}, {:.2}, {:.2})",
+                            f.class, f.name, f.pose.x, f.pose.y, f.pose.z
+                        );
                         return Ok((Some(f), r));
                     }
                     StepEnd::Replan(r) => {
@@ -514,14 +625,32 @@ impl Agent {
                     }
                     StepEnd::Continue => {}
                 }
+                // A move onto a placeholder and its exploration go together: the frontier may
+                // vanish on arrival, before the plan's EXPLORE-PLACEHOLDER step.
+                if st.schema == "move"
+                    && plan.steps.get(i + 1).is_some_and(|n| {
+                        n.schema == "explore-placeholder" && n.args.first() == st.args.get(1)
+                    })
+                {
+                    i += 1;
+                    continue;
+                }
                 if matches!(self.current_room(), Some(r) if !self.state().looked.contains(&r.0)) {
-                    self.look_around(robot, run)?;
+                    if let Err(e) = self.look_around(robot, run) {
+                        run.emit(Event::Observed {
+                            what: format!("looking around failed: {e}"),
+                        });
+                    }
                 }
                 // Monitor the rest of the plan against the world as now known.
                 let now = self.snapshot(&goal.class);
                 let verdict = {
                     let stt = self.state();
-                    let f = Probs { snap: &now, cm: &stt.wm.concepts, p_detect };
+                    let f = Probs {
+                        snap: &now,
+                        cm: &stt.wm.concepts,
+                        p_detect,
+                    };
                     self.planner.monitor(&plan, i + 1, &now.problem, &f)
                 };
                 match verdict {
@@ -529,6 +658,11 @@ impl Agent {
                     Ok(Verdict::GoalReached) => {
                         reason = "the goal holds".into();
                         break;
+                    }
+                    Ok(Verdict::Replan(Replan::AssumptionUnlikely { action, .. }))
+                        if accepted.contains(&action) =>
+                    {
+                        i += 1;
                     }
                     Ok(Verdict::Replan(r)) => {
                         if let Replan::AssumptionContradicted { action, .. }
@@ -579,6 +713,37 @@ impl Agent {
             })
     }
 
+    /// Whether a point seen from `from` lies in the same room: the sight line (stopping `slack`
+    /// short) crosses no wall of the known map and no door hypothesis.
+    fn same_room(&self, from: [f64; 2], p: [f64; 2], slack: f64) -> bool {
+        let st = self.state();
+        let d = dist(from, p);
+        let end = if d > slack {
+            let t = (d - slack) / d;
+            [
+                from[0] + t * (p[0] - from[0]),
+                from[1] + t * (p[1] - from[1]),
+            ]
+        } else {
+            from
+        };
+        line_of_sight(&st.grid, from, end, false)
+            && !st
+                .wm
+                .places
+                .doors
+                .iter()
+                .any(|dr| dr.hypothesis.crossed_by(from, p))
+    }
+
+    /// How far short of an object's estimated centre a sight line may stop: half its footprint's
+    /// diagonal (furniture footprints are obstacles of the map) plus the estimate's slack.
+    fn footprint_slack(&self, class: &str) -> f64 {
+        self.knowledge
+            .class(class)
+            .map_or(LOS_SLACK, |c| 0.5 * c.size[0].hypot(c.size[1]) + LOS_SLACK)
+    }
+
     /// The room a place belongs to; a door place belongs to its neighbour's room of smallest id.
     fn room_for(&self, n: NodeIndex) -> Option<RoomId> {
         let wm = &self.state().wm;
@@ -592,34 +757,71 @@ impl Agent {
     }
 
     fn sync(&mut self) -> Result<(), AgentError> {
-        let st = self.state_mut();
-        let grid = st.grid.clone();
-        st.wm.sync(&grid)?;
-        // Name the current placeholders: keep the name of a tracked one within 1 m; skip those
-        // next to an explored one (the same frontier seen again); new ones get new names.
-        let mut taken = BTreeSet::new();
-        let mut ph_of = Vec::new();
-        for ph in &st.wm.places.placeholders {
-            if st
-                .registry
+        let grid = self.state().grid.clone();
+        self.state_mut().wm.sync(&grid)?;
+        // Placeholders the known map gives no short path to from their place are artefacts
+        // (frontier seen through a gap, behind furniture): not worth a plan.
+        let spurious: Vec<bool> = {
+            let wm = &self.state().wm;
+            wm.places
+                .placeholders
                 .iter()
-                .any(|e| e.explored.is_some() && dist(e.pos, ph.pos) < 0.8)
+                .map(|ph| {
+                    let a = wm
+                        .places
+                        .graph
+                        .node_weight(ph.place)
+                        .map_or(ph.pos, |p| p.pos);
+                    self.path_len(a, ph.pos, true)
+                        .is_none_or(|l| l > 2.0 * dist(a, ph.pos) + 2.0)
+                })
+                .collect()
+        };
+        let mut cands: Vec<(Cand, bool)> = {
+            let wm = &self.state().wm;
+            wm.places
+                .placeholders
+                .iter()
+                .enumerate()
+                .zip(&spurious)
+                .map(|((i, ph), &sp)| {
+                    let c = Cand {
+                        pos: ph.pos,
+                        attach: ph.place,
+                        cm_id: i as u64,
+                    };
+                    (c, sp || ph.open_area < MIN_OPEN_AREA)
+                })
+                .collect()
+        };
+        let extras = self.unvisited_areas()?;
+        cands.extend(extras.into_iter().map(|c| (c, false)));
+        let st = self.state_mut();
+        // Name them: keep the name of a tracked one within 1 m; skip those next to an explored
+        // one (the same frontier seen again); new ones get new names.
+        let mut taken = BTreeSet::new();
+        let mut phs = Vec::new();
+        for (c, skip) in cands {
+            if skip
+                || st
+                    .registry
+                    .iter()
+                    .any(|e| e.explored.is_some() && dist(e.pos, c.pos) < 0.8)
             {
-                ph_of.push(None);
                 continue;
             }
             let hit = st.registry.iter().position(|e| {
-                e.explored.is_none() && !taken.contains(&e.id) && dist(e.pos, ph.pos) < 1.0
+                e.explored.is_none() && !taken.contains(&e.id) && dist(e.pos, c.pos) < 1.0
             });
             let k = match hit {
                 Some(k) => {
-                    st.registry[k].pos = ph.pos;
+                    st.registry[k].pos = c.pos;
                     k
                 }
                 None => {
                     st.registry.push(PhEntry {
                         id: st.next_ph,
-                        pos: ph.pos,
+                        pos: c.pos,
                         explored: None,
                     });
                     st.next_ph += 1;
@@ -627,26 +829,127 @@ impl Agent {
                 }
             };
             taken.insert(st.registry[k].id);
-            ph_of.push(Some(k));
+            phs.push((st.registry[k].id, c));
         }
         // Forget unexplored placeholders that vanished.
-        let keep: Vec<bool> = st
-            .registry
-            .iter()
-            .map(|e| e.explored.is_some() || taken.contains(&e.id))
+        st.registry
+            .retain(|e| e.explored.is_some() || taken.contains(&e.id));
+        st.phs = phs
+            .into_iter()
+            .filter_map(|(id, c)| st.registry.iter().position(|e| e.id == id).map(|k| (k, c)))
             .collect();
-        let mut remap = Vec::new();
-        let mut j = 0;
-        for &k in &keep {
-            remap.push(if k { Some(j) } else { None });
-            if k {
-                j += 1;
+        Ok(())
+    }
+
+    /// Known free space far from every place: unvisited areas (a room seen through its door
+    /// but not entered has no places, so the place map has no room for it). One placeholder per
+    /// area, attached to the nearest place, set in the conceptual map with the open area around
+    /// it so that P_category(placeholder) applies (Aydemir et al. 2011, §III-A.1).
+    fn unvisited_areas(&mut self) -> Result<Vec<Cand>, AgentError> {
+        let (grid, radius) = (self.state().grid.clone(), self.config.robot_radius);
+        let trav = Traversability::new(&grid, radius, false);
+        let res = grid.resolution();
+        let places: Vec<[f64; 2]> = {
+            let g = &self.state().wm.places.graph;
+            g.node_indices().map(|n| g[n].pos).collect()
+        };
+        if places.is_empty() {
+            return Ok(Vec::new());
+        }
+        let near_place = |p: [f64; 2]| {
+            places
+                .iter()
+                .map(|q| dist(*q, p))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let step = (1.0 / res).round().max(1.0) as usize;
+        let mut picked: Vec<Cand> = Vec::new();
+        let mut extra: Vec<(u64, avs_concepts::Placeholder)> = Vec::new();
+        for row in (0..grid.height()).step_by(step) {
+            for col in (0..grid.width()).step_by(step) {
+                if grid.get(col, row) != Cell::Free || !trav.ok(col as i64, row as i64) {
+                    continue;
+                }
+                let (x, y) = grid.cell_center(col as i64, row as i64);
+                let pos = [x, y];
+                if near_place(pos) <= UNVISITED_DIST
+                    || picked.iter().any(|c| dist(c.pos, pos) < UNVISITED_SPACING)
+                {
+                    continue;
+                }
+                let st = self.state();
+                if st
+                    .wm
+                    .places
+                    .placeholders
+                    .iter()
+                    .any(|ph| dist(ph.pos, pos) < 2.0)
+                    || st
+                        .registry
+                        .iter()
+                        .any(|e| e.explored.is_some() && dist(e.pos, pos) < 2.0)
+                {
+                    continue;
+                }
+                let Some(attach) = self.nearest_room_place(pos) else {
+                    continue;
+                };
+                let Some(room) = st.wm.room_of(attach) else {
+                    continue;
+                };
+                let a = st.wm.places.graph[attach].pos;
+                if self
+                    .known_path_len(a, pos)
+                    .is_none_or(|l| l > 2.0 * dist(a, pos) + 2.0)
+                {
+                    continue;
+                }
+                // Unvisited free area within 2.5 m of it.
+                let r = (2.5 / res).ceil() as i64;
+                let (c0, r0) = grid.world_to_cell(x, y);
+                let mut cells = 0usize;
+                for dr in -r..=r {
+                    for dc in -r..=r {
+                        if grid.get_i(c0 + dc, r0 + dr) == Cell::Free {
+                            let (cx, cy) = grid.cell_center(c0 + dc, r0 + dr);
+                            if dist([cx, cy], pos) <= 2.5 && near_place([cx, cy]) > UNVISITED_DIST {
+                                cells += 1;
+                            }
+                        }
+                    }
+                }
+                let door = st
+                    .wm
+                    .places
+                    .doors
+                    .iter()
+                    .map(|d| dist(d.hypothesis.center, pos))
+                    .min_by(f64::total_cmp);
+                let id = EXTRA_BASE + picked.len() as u64;
+                extra.push((
+                    id,
+                    avs_concepts::Placeholder {
+                        room,
+                        open_area_m2: cells as f64 * res * res,
+                        door_distance_m: door,
+                    },
+                ));
+                picked.push(Cand {
+                    pos,
+                    attach,
+                    cm_id: id,
+                });
             }
         }
-        let mut it = keep.iter();
-        st.registry.retain(|_| *it.next().unwrap_or(&true));
-        st.ph_of = ph_of.into_iter().map(|k| k.and_then(|k| remap[k])).collect();
-        Ok(())
+        let st = self.state_mut();
+        for id in std::mem::take(&mut st.extra_ids) {
+            st.wm.concepts.remove_placeholder(PlaceholderId(id))?;
+        }
+        for (id, ph) in extra {
+            st.wm.concepts.set_placeholder(PlaceholderId(id), ph)?;
+            st.extra_ids.push(id);
+        }
+        Ok(picked)
     }
 
     /// The planning problem of the world as the agent knows it now.
@@ -666,7 +969,9 @@ impl Agent {
         }
         for (r, _) in wm.rooms() {
             let n = format!("room{}", r.0);
-            p = p.object(&n, "room").init(&format!("category({n}) = unknown"));
+            p = p
+                .object(&n, "room")
+                .init(&format!("category({n}) = unknown"));
             s.rooms.insert(n, r);
         }
         let mut in_plan: BTreeMap<NodeIndex, RoomId> = BTreeMap::new();
@@ -676,27 +981,43 @@ impl Agent {
             }
             let Some(r) = self.room_for(n) else { continue };
             let name = format!("place{}", n.index());
-            p = p.object(&name, "place").fact(&format!("in-room({name}, room{})", r.0));
+            p = p
+                .object(&name, "place")
+                .fact(&format!("in-room({name}, room{})", r.0));
             s.pos.insert(name, wm.places.graph[n].pos);
             in_plan.insert(n, r);
         }
         for (a, b, _) in wm.places.paths() {
             if in_plan.contains_key(&a) && in_plan.contains_key(&b) {
                 p = p
-                    .fact(&format!("connected(place{}, place{})", a.index(), b.index()))
-                    .fact(&format!("connected(place{}, place{})", b.index(), a.index()));
+                    .fact(&format!(
+                        "connected(place{}, place{})",
+                        a.index(),
+                        b.index()
+                    ))
+                    .fact(&format!(
+                        "connected(place{}, place{})",
+                        b.index(),
+                        a.index()
+                    ));
             }
         }
         let mut open: BTreeMap<RoomId, usize> = BTreeMap::new();
-        let mut add_ph = |p: Problem, name: &str, pos: [f64; 2], attach: Option<NodeIndex>, leads: String| -> (Problem, Option<RoomId>) {
-            let attach = attach
-                .filter(|a| in_plan.contains_key(a))
-                .or_else(|| {
-                    in_plan
-                        .keys()
-                        .min_by(|&&a, &&b| dist(wm.places.graph[a].pos, pos).total_cmp(&dist(wm.places.graph[b].pos, pos)))
-                        .copied()
-                });
+        let add_ph = |p: Problem,
+                      name: &str,
+                      pos: [f64; 2],
+                      attach: Option<NodeIndex>,
+                      leads: String|
+         -> (Problem, Option<RoomId>) {
+            let attach = attach.filter(|a| in_plan.contains_key(a)).or_else(|| {
+                in_plan
+                    .keys()
+                    .min_by(|&&a, &&b| {
+                        dist(wm.places.graph[a].pos, pos)
+                            .total_cmp(&dist(wm.places.graph[b].pos, pos))
+                    })
+                    .copied()
+            });
             let Some(a) = attach else { return (p, None) };
             let r = in_plan[&a];
             let p = p
@@ -708,15 +1029,21 @@ impl Agent {
                 .init(&format!("leads-to({name}) = {leads}"));
             (p, Some(r))
         };
-        for (i, ph) in wm.places.placeholders.iter().enumerate() {
-            let Some(Some(k)) = st.ph_of.get(i) else { continue };
-            let name = format!("placeholder{}", st.registry[*k].id);
-            let (q, r) = add_ph(p, &name, ph.pos, Some(ph.place), "unknown".into());
+        for (k, c) in &st.phs {
+            let e = &st.registry[*k];
+            if e.explored.is_some() {
+                continue;
+            }
+            let name = format!("placeholder{}", e.id);
+            let (q, r) = add_ph(p, &name, c.pos, Some(c.attach), "unknown".into());
             p = q;
+            if let Some(a) = wm.places.graph.node_weight(c.attach) {
+                s.attach.insert(name.clone(), a.pos);
+            }
             if let Some(r) = r {
                 *open.entry(r).or_default() += 1;
-                s.pos.insert(name.clone(), ph.pos);
-                s.placeholders.insert(name, PhRef::Current(i));
+                s.pos.insert(name.clone(), c.pos);
+                s.placeholders.insert(name, PhRef::Current(c.cm_id));
             }
         }
         for e in &st.registry {
@@ -741,17 +1068,18 @@ impl Agent {
             if st.exhausted.contains(&(k, goal.to_string())) {
                 continue;
             }
-            let Some(r) = self.room_for(o.place) else { continue };
+            let Some(r) = self.room_for(o.place) else {
+                continue;
+            };
             let name = format!("object{k}");
             p = p
                 .object(&name, "object")
                 .init(&format!("class({name}) = {}", o.class))
                 .init(&format!("located-in({name}) = room{}", r.0))
                 .init(&format!("found({name}) = yes"));
-            let on = o
-                .on
-                .filter(|j| !st.exhausted.contains(&(*j, goal.to_string())))
-                .map_or("none".to_string(), |j| format!("object{j}"));
+            let on =
+                o.on.filter(|j| !st.exhausted.contains(&(*j, goal.to_string())))
+                    .map_or("none".to_string(), |j| format!("object{j}"));
             p = p.init(&format!("located-on({name}) = {on}"));
             s.objects.insert(name, k);
         }
@@ -766,27 +1094,89 @@ impl Agent {
                 _ => {}
             }
         }
-        if let Some(cur) = self.current_place().filter(|c| in_plan.contains_key(c)) {
-            p = p
-                .init(&format!("robot-at = place{}", cur.index()))
-                .init(&format!("robot-room = room{}", in_plan[&cur].0));
+        // The robot is at the place it last moved to if it stands there (a door place or a
+        // placeholder), else at the place map's current place.
+        let target = st
+            .last_target
+            .as_ref()
+            .filter(|(n, q)| dist(*q, st.at) < AT_PLACE && s.pos.contains_key(n));
+        let target_room = target.and_then(|(n, _)| {
+            n.strip_prefix("place")
+                .and_then(|i| i.parse::<usize>().ok())
+                .and_then(|i| in_plan.get(&NodeIndex::new(i)).copied())
+                .or_else(|| {
+                    let q = s.pos[n];
+                    let near = in_plan.keys().min_by(|&&a, &&b| {
+                        dist(wm.places.graph[a].pos, q).total_cmp(&dist(wm.places.graph[b].pos, q))
+                    })?;
+                    Some(in_plan[near])
+                })
+        });
+        match (target, target_room) {
+            (Some((n, _)), Some(r)) => {
+                p = p
+                    .init(&format!("robot-at = {n}"))
+                    .init(&format!("robot-room = room{}", r.0));
+            }
+            _ => {
+                if let Some(cur) = self.current_place().filter(|c| in_plan.contains_key(c)) {
+                    p = p
+                        .init(&format!("robot-at = place{}", cur.index()))
+                        .init(&format!("robot-room = room{}", in_plan[&cur].0));
+                }
+            }
         }
         s.problem = p.goal(&format!("reported({goal}) = yes"));
         s
     }
 
+    /// Length of the shortest path on the known map (unknown cells blocked), metres.
+    fn known_path_len(&self, from: [f64; 2], to: [f64; 2]) -> Option<f64> {
+        self.path_len(from, to, false)
+    }
+
+    /// Length of the shortest path on the known map, unknown cells free or blocked, metres.
+    fn path_len(&self, from: [f64; 2], to: [f64; 2], unknown_is_free: bool) -> Option<f64> {
+        let grid = &self.state().grid;
+        let t = Traversability::new(grid, self.config.robot_radius, unknown_is_free);
+        shortest_path(&t, from, to, 0.5)
+            .filter(|p| p.points.last().is_some_and(|e| dist(*e, to) <= 0.5))
+            .map(|p| p.length)
+    }
+
     /// Drive to `target` along a path on the known map, updating the place map on the way.
-    fn go_to<R: Robot + ?Sized>(&mut self, robot: &mut R, target: [f64; 2]) -> Result<Result<(), String>, AgentError> {
+    fn go_to<R: Robot + ?Sized>(
+        &mut self,
+        robot: &mut R,
+        target: [f64; 2],
+    ) -> Result<Result<(), String>, AgentError> {
         let here = robot.pose();
         let radius = self.config.robot_radius;
         let grid = self.state().grid.clone();
-        let path = shortest_path(&Traversability::new(&grid, radius, false), [here.x, here.y], target, 1.0)
-            .or_else(|| shortest_path(&Traversability::new(&grid, radius, true), [here.x, here.y], target, 1.0));
+        let path = shortest_path(
+            &Traversability::new(&grid, radius, false),
+            [here.x, here.y],
+            target,
+            1.0,
+        )
+        .or_else(|| {
+            shortest_path(
+                &Traversability::new(&grid, radius, true),
+                [here.x, here.y],
+                target,
+                1.0,
+            )
+        });
         let mut wps: Vec<[f64; 2]> = match &path {
             Some(p) => p.points.iter().skip(1).step_by(5).copied().collect(),
             None => Vec::new(),
         };
-        wps.push(target);
+        // The path ends at the traversable cell nearest the target (the goal snaps to it).
+        wps.push(
+            path.as_ref()
+                .and_then(|p| p.points.last().copied())
+                .unwrap_or(target),
+        );
         let mut result = Ok(());
         let mut prev = [here.x, here.y];
         for w in wps {
@@ -794,15 +1184,26 @@ impl Agent {
                 continue;
             }
             let yaw = (w[1] - prev[1]).atan2(w[0] - prev[0]);
+            let odo = robot.odometry();
             let r = robot.move_to(Pose2D::new(w[0], w[1], yaw));
+            let detour = robot.odometry() - odo > DETOUR_FACTOR * dist(prev, w) + 1.0;
             let now = robot.pose();
             let grid = robot.map_update().grid;
             let st = self.state_mut();
             st.wm.places.robot_moved(&grid, prev, [now.x, now.y]);
+            st.wm.places.update(&grid);
             st.grid = grid;
+            st.at = [now.x, now.y];
             prev = [now.x, now.y];
             if let Err(e) = r {
                 result = Err(format!("action failed: {e}"));
+                break;
+            }
+            if detour {
+                result = Err(format!(
+                    "action failed: Unreachable: the known map has no path to ({:.2}, {:.2}); the robot stopped after a detour",
+                    target[0], target[1]
+                ));
                 break;
             }
         }
@@ -812,7 +1213,11 @@ impl Agent {
 
     /// Look around from where the robot stands for landmark classes: found landmarks become
     /// locations, and their counts are evidence on the room's category (§III-A, eq. 1).
-    fn look_around<R: Robot + ?Sized>(&mut self, robot: &mut R, run: &mut Run) -> Result<(), AgentError> {
+    fn look_around<R: Robot + ?Sized>(
+        &mut self,
+        robot: &mut R,
+        run: &mut Run,
+    ) -> Result<(), AgentError> {
         let (Some(place), Some(room)) = (self.current_place(), self.current_room()) else {
             return Ok(());
         };
@@ -824,7 +1229,10 @@ impl Agent {
             .map(|c| c.name.clone())
             .collect();
         let cam = robot.camera();
-        let tilt = (-0.2f64).clamp(cam.tilt_deg[0].to_radians(), cam.tilt_deg[1].to_radians());
+        let tilts: Vec<f64> = LOOK_TILTS
+            .iter()
+            .map(|t| t.clamp(cam.tilt_deg[0].to_radians(), cam.tilt_deg[1].to_radians()))
+            .collect();
         let pose = robot.pose();
         let mut dets: Vec<crate::robot::Detection> = Vec::new();
         let n_views = (std::f64::consts::TAU / cam.hfov_deg.to_radians().max(0.1)).ceil() as usize;
@@ -832,32 +1240,52 @@ impl Agent {
         for k in 0..n_views {
             let pan = (-std::f64::consts::PI + std::f64::consts::TAU * k as f64 / n_views as f64)
                 .clamp(cam.pan_deg[0].to_radians(), cam.pan_deg[1].to_radians());
-            match robot.process_view_cone(&ViewCone::new(pose, pan, tilt, 1.0), &classes) {
-                Ok(r) => dets.extend(r.detections.into_iter().filter(|d| d.confidence >= self.config.min_confidence)),
-                Err(_) => failed += 1,
+            for &tilt in &tilts {
+                match robot.process_view_cone(&ViewCone::new(pose, pan, tilt, 1.0), &classes) {
+                    Ok(r) => dets.extend(
+                        r.detections
+                            .into_iter()
+                            .filter(|d| d.confidence >= self.config.min_confidence),
+                    ),
+                    Err(_) => failed += 1,
+                }
             }
         }
         // One sighting per object: merge detections of a class within 1 m.
-        let mut clusters: Vec<crate::robot::Detection> = Vec::new();
+        let mut clusters: Vec<(crate::robot::Detection, usize)> = Vec::new();
         for d in dets {
-            match clusters
-                .iter_mut()
-                .find(|c| c.class == d.class && c.pose.planar_distance(d.pose.x, d.pose.y) < 1.0)
-            {
-                Some(c) if c.confidence < d.confidence => *c = d,
-                Some(_) => {}
-                None => clusters.push(d),
+            match clusters.iter_mut().find(|(c, _)| {
+                c.class == d.class && c.pose.planar_distance(d.pose.x, d.pose.y) < LOOK_CLUSTER
+            }) {
+                Some((c, n)) => {
+                    *n += 1;
+                    if c.confidence < d.confidence {
+                        *c = d;
+                    }
+                }
+                None => clusters.push((d, 1)),
             }
         }
+        // The views overlap: a real landmark is seen more than once, a false alarm rarely.
+        let clusters: Vec<crate::robot::Detection> = clusters
+            .into_iter()
+            .filter(|(_, n)| *n >= LOOK_MIN_SIGHTINGS)
+            .map(|(d, _)| d)
+            .collect();
         let mut counts: BTreeMap<String, u32> = classes.iter().map(|c| (c.clone(), 0)).collect();
         for d in clusters {
-            let Some(near) = self.nearest_room_place([d.pose.x, d.pose.y]) else { continue };
-            if self.state().wm.room_of(near) != Some(room) {
+            let slack = self.footprint_slack(&d.class);
+            if !self.same_room([pose.x, pose.y], [d.pose.x, d.pose.y], slack) {
                 continue; // seen through a door: another room
             }
-            let known = self.state().objects.iter().any(|o| {
-                o.class == d.class && o.pos.planar_distance(d.pose.x, d.pose.y) < 1.0
-            });
+            let near = self
+                .nearest_room_place([d.pose.x, d.pose.y])
+                .unwrap_or(place);
+            let known = self
+                .state()
+                .objects
+                .iter()
+                .any(|o| o.class == d.class && o.pos.planar_distance(d.pose.x, d.pose.y) < 1.0);
             if known {
                 continue;
             }
@@ -895,8 +1323,16 @@ impl Agent {
             what: format!(
                 "looked around in room{}: {}{}; {}",
                 room.0,
-                if seen.is_empty() { "no landmarks".to_string() } else { seen.join(", ") },
-                if failed > 0 { format!(" ({failed} views failed)") } else { String::new() },
+                if seen.is_empty() {
+                    "no landmarks".to_string()
+                } else {
+                    seen.join(", ")
+                },
+                if failed > 0 {
+                    format!(" ({failed} views failed)")
+                } else {
+                    String::new()
+                },
                 dist_txt.join(", ")
             ),
         });
@@ -929,19 +1365,17 @@ impl Agent {
                     return Ok(StepEnd::Replan(e));
                 }
                 if st.schema == "enter" {
+                    self.state_mut().last_target = None;
                     return self.enter(robot, to, snap, from_room, run);
                 }
+                self.state_mut().last_target = Some((to.to_string(), target));
                 Ok(StepEnd::Continue)
             }
             ("explore-placeholder", [p, _, _, _]) => {
-                let here = robot.pose();
-                let _ = robot.move_to(Pose2D::new(here.x, here.y, here.yaw + std::f64::consts::PI));
-                let _ = robot.move_to(here);
-                self.state_mut().grid = robot.map_update().grid;
-                let room = self.current_room().map_or(0, |r| r.0);
-                self.set_explored(p, snap, room, None);
-                self.sync()?;
-                Ok(StepEnd::Continue)
+                // Explore = look into the space behind it, as when entering: a room found there
+                // enters the map (rooms exist where the robot has been).
+                let room = self.current_room();
+                self.enter(robot, p, snap, room, run)
             }
             ("createviewcones-in", [l, r, _]) => {
                 let Some(&room) = snap.rooms.get(*r) else {
@@ -972,12 +1406,18 @@ impl Agent {
             ("reportposition", [o, _]) => Ok(StepEnd::Replan(format!(
                 "{o} was not found, so its position cannot be reported"
             ))),
-            _ => Ok(StepEnd::Replan(format!("the executive cannot execute `{}`", st.display))),
+            _ => Ok(StepEnd::Replan(format!(
+                "the executive cannot execute `{}`",
+                st.display
+            ))),
         }
     }
 
     fn set_explored(&mut self, name: &str, snap: &Snapshot, origin: u64, led: Option<NodeIndex>) {
-        let Some(id) = name.strip_prefix("placeholder").and_then(|s| s.parse::<usize>().ok()) else {
+        let Some(id) = name
+            .strip_prefix("placeholder")
+            .and_then(|s| s.parse::<usize>().ok())
+        else {
             return;
         };
         let pos = snap.pos.get(name).copied();
@@ -990,7 +1430,11 @@ impl Agent {
             }
             None => {
                 if let Some(pos) = pos {
-                    st.registry.push(PhEntry { id, pos, explored: Some((origin, led)) });
+                    st.registry.push(PhEntry {
+                        id,
+                        pos,
+                        explored: Some((origin, led)),
+                    });
                 }
             }
         }
@@ -999,7 +1443,10 @@ impl Agent {
     fn mark_unreachable(&mut self, name: &str, snap: &Snapshot, room: Option<RoomId>) {
         if name.starts_with("placeholder") {
             self.set_explored(name, snap, room.map_or(0, |r| r.0), None);
-        } else if let Some(n) = name.strip_prefix("place").and_then(|s| s.parse::<usize>().ok()) {
+        } else if let Some(n) = name
+            .strip_prefix("place")
+            .and_then(|s| s.parse::<usize>().ok())
+        {
             self.state_mut().blocked.insert(NodeIndex::new(n));
         }
     }
@@ -1024,21 +1471,88 @@ impl Agent {
         let beyond = match explored_led {
             Some(n) => self.state().wm.places.graph.node_weight(n).map(|p| p.pos),
             None => {
-                let Some(&pos) = snap.pos.get(name) else { return Ok(StepEnd::Continue) };
-                let from = self
-                    .current_place()
-                    .map(|c| self.state().wm.places.graph[c].pos)
-                    .unwrap_or(pos);
+                let Some(&pos) = snap.pos.get(name) else {
+                    return Ok(StepEnd::Continue);
+                };
+                let from = snap.attach.get(name).copied().unwrap_or(pos);
                 let here = robot.pose();
                 let (dx, dy) = (pos[0] - from[0], pos[1] - from[1]);
-                let (dx, dy) = if dx.hypot(dy) > 0.2 { (dx, dy) } else { (here.yaw.cos(), here.yaw.sin()) };
+                let (dx, dy) = if dx.hypot(dy) > 0.2 {
+                    (dx, dy)
+                } else {
+                    (here.yaw.cos(), here.yaw.sin())
+                };
                 let n = dx.hypot(dy).max(1e-9);
-                Some([here.x + ENTER_DEPTH * dx / n, here.y + ENTER_DEPTH * dy / n])
+                let (ux, uy) = (dx / n, dy / n);
+                // Into the space beyond: of the points ENTER_DEPTH away with a short known
+                // path, the one that reveals most (exploration utility's new area, Masuzawa &
+                // Miura eq. 6) and lies farthest from where the placeholder hangs off.
+                let grid = self.state().grid.clone();
+                (0..12)
+                    .map(|k| {
+                        let a = std::f64::consts::TAU * k as f64 / 12.0;
+                        let (c, s) = (a.cos(), a.sin());
+                        let (vx, vy) = (c * ux - s * uy, s * ux + c * uy);
+                        [here.x + ENTER_DEPTH * vx, here.y + ENTER_DEPTH * vy]
+                    })
+                    .filter(|b| {
+                        self.known_path_len([here.x, here.y], *b)
+                            .is_some_and(|l| l <= 1.5 * ENTER_DEPTH)
+                    })
+                    .map(|b| {
+                        let score =
+                            avs_map::explore::new_area(&grid, b, ENTER_DEPTH * 2.0) + dist(b, from);
+                        (b, score)
+                    })
+                    .fold(None, |best: Option<([f64; 2], f64)>, (b, sc)| match best {
+                        Some((_, bs)) if bs >= sc - 1e-9 => best,
+                        _ => Some((b, sc)),
+                    })
+                    .map(|(b, _)| b)
             }
         };
         if let Some(b) = beyond {
             if let Err(e) = self.go_to(robot, b)? {
-                run.emit(Event::Observed { what: format!("could not go beyond {name}: {e}") });
+                run.emit(Event::Observed {
+                    what: format!("could not go beyond {name}: {e}"),
+                });
+            }
+        }
+        self.turn_around(robot)?;
+        // Explore what is left of the room just entered (the assumption gives a new room no
+        // open placeholders): visit the nearest placeholder of this room, a few times.
+        for _ in 0..ROOM_EXPLORE_STEPS {
+            let Some(room) = self.current_room() else {
+                break;
+            };
+            if from_room == Some(room) {
+                break;
+            }
+            let here = robot.pose();
+            let next = {
+                let st = self.state();
+                st.phs
+                    .iter()
+                    .filter(|(k, c)| {
+                        st.registry[*k].explored.is_none() && self.room_for(c.attach) == Some(room)
+                    })
+                    .map(|(k, c)| (*k, c.pos))
+                    .filter(|(_, p)| {
+                        self.known_path_len([here.x, here.y], *p)
+                            .is_some_and(|l| l <= ROOM_EXPLORE_RADIUS)
+                    })
+                    .min_by(|a, b| {
+                        dist(a.1, [here.x, here.y]).total_cmp(&dist(b.1, [here.x, here.y]))
+                    })
+            };
+            let Some((k, pos)) = next else { break };
+            let id = self.state().registry[k].id;
+            let r = self.go_to(robot, pos)?;
+            if let Some(e) = self.state_mut().registry.iter_mut().find(|e| e.id == id) {
+                e.explored = Some((room.0, None));
+            }
+            if r.is_ok() {
+                self.turn_around(robot)?;
             }
         }
         let now = self.current_room();
@@ -1052,10 +1566,30 @@ impl Agent {
         Ok(StepEnd::Continue)
     }
 
+    /// Turn in place so that the laser sees all around, and update the maps.
+    fn turn_around<R: Robot + ?Sized>(&mut self, robot: &mut R) -> Result<(), AgentError> {
+        let here = robot.pose();
+        let _ = robot.move_to(Pose2D::new(here.x, here.y, here.yaw + std::f64::consts::PI));
+        let _ = robot.move_to(here);
+        let grid = robot.map_update().grid;
+        let st = self.state_mut();
+        st.wm.places.update(&grid);
+        st.grid = grid;
+        self.sync()
+    }
+
     /// CREATEVIEWCONES: view planning by coverage over the location's cells (Sjöö et al.,
     /// `004` §2.1) with line of sight on the known map.
-    fn create_cones<R: Robot + ?Sized>(&mut self, robot: &mut R, label: &str, loc: ConeLoc, run: &mut Run) {
-        let Some(class) = self.knowledge.class(label).cloned() else { return };
+    fn create_cones<R: Robot + ?Sized>(
+        &mut self,
+        robot: &mut R,
+        label: &str,
+        loc: ConeLoc,
+        run: &mut Run,
+    ) {
+        let Some(class) = self.knowledge.class(label).cloned() else {
+            return;
+        };
         let st = self.state();
         let grid = &st.grid;
         let res = grid.resolution();
@@ -1067,7 +1601,11 @@ impl Agent {
         };
         let (points, center, reach): (Vec<[f64; 3]>, Option<[f64; 2]>, f64) = match loc {
             ConeLoc::Room(r) => {
-                let z = if class.landmark { class.size[2] * 0.5 } else { SMALL_OBJECT_Z };
+                let z = if class.landmark {
+                    class.size[2] * 0.5
+                } else {
+                    SMALL_OBJECT_Z
+                };
                 let step = (POINT_SPACING / res).round().max(1.0) as usize;
                 let mut pts = Vec::new();
                 for row in (0..grid.height()).step_by(step) {
@@ -1095,7 +1633,11 @@ impl Agent {
                         pts.push([o.pos.x + 0.2 * i as f64, o.pos.y + 0.2 * j as f64, z]);
                     }
                 }
-                (pts, Some([o.pos.x, o.pos.y]), class.detection_range[1] + 0.5)
+                (
+                    pts,
+                    Some([o.pos.x, o.pos.y]),
+                    class.detection_range[1] + 0.5,
+                )
             }
         };
         let step = (POSE_SPACING / res).round().max(1.0) as usize;
@@ -1123,7 +1665,10 @@ impl Agent {
             tilt_limits: cam.tilt_deg.map(f64::to_radians),
             height: cam.height,
         };
-        let range = DetectionRange { min: class.detection_range[0], max: class.detection_range[1] };
+        let range = DetectionRange {
+            min: class.detection_range[0],
+            max: class.detection_range[1],
+        };
         // The grid holds furniture footprints: stop the sight line short of the target point.
         let los = |a: [f64; 3], b: [f64; 3]| {
             let d = dist([a[0], a[1]], [b[0], b[1]]);
@@ -1143,11 +1688,25 @@ impl Agent {
             Some(mut p) => {
                 p.views.truncate(self.config.max_cones);
                 let n_points = points.len();
-                let covered: BTreeSet<usize> = p.views.iter().flat_map(|v| v.covered.iter().copied()).collect();
+                let covered: BTreeSet<usize> = p
+                    .views
+                    .iter()
+                    .flat_map(|v| v.covered.iter().copied())
+                    .collect();
                 let share = covered.len() as f64 / n_points.max(1) as f64;
-                ConeSet { cells: p.cone_cells(), views: p.views, n_points, covered_share: share }
+                ConeSet {
+                    cells: p.cone_cells(),
+                    views: p.views,
+                    n_points,
+                    covered_share: share,
+                }
             }
-            None => ConeSet { views: Vec::new(), cells: Vec::new(), n_points: 0, covered_share: 0.0 },
+            None => ConeSet {
+                views: Vec::new(),
+                cells: Vec::new(),
+                n_points: 0,
+                covered_share: 0.0,
+            },
         };
         run.emit(Event::Observed {
             what: format!(
@@ -1186,17 +1745,31 @@ impl Agent {
                 None => return Ok(StepEnd::Replan(format!("object{k} is not a landmark"))),
             },
         };
-        let p_loc = self.state().wm.concepts.p_object_at(location, label)?;
+        let p_map = self.state().wm.concepts.p_object_at(location, label)?;
+        // The plan runs this session because it assumes the object there: the session's prior
+        // is the map's P(ObjectAt L), floored so that an assumed object is looked for at all.
+        let p_loc = if obj.starts_with("new-object") {
+            p_map.max(ASSUMED_PRIOR)
+        } else {
+            p_map
+        };
         run.metrics.dt_sessions += 1;
-        run.emit(Event::DtSessionStarted { search: display.clone(), cones: set.views.len(), p_location: p_loc });
+        run.emit(Event::DtSessionStarted {
+            search: display.clone(),
+            cones: set.views.len(),
+            p_location: p_loc,
+        });
         let mut outcome: Option<crate::robot::Detection> = None;
         let mut steps = 0;
+        let mut looked_share = 0.0;
         if !set.views.is_empty() {
             let weights = vec![1.0; set.n_points];
             let prior = cone_priors(&set.cells, &weights, p_loc.clamp(0.0, 1.0));
             let here = robot.pose();
-            let positions: Vec<[f64; 2]> = set.views.iter().map(|v| [v.pose[0], v.pose[1]]).collect();
-            let (from_start, travel) = euclidean_travel([here.x, here.y], &positions, self.config.travel_cost_per_m);
+            let positions: Vec<[f64; 2]> =
+                set.views.iter().map(|v| [v.pose[0], v.pose[1]]).collect();
+            let (from_start, travel) =
+                euclidean_travel([here.x, here.y], &positions, self.config.travel_cost_per_m);
             let sensor = &self.knowledge.sensor;
             let session = prior.and_then(|cone_prior| {
                 ViewConeSession::new(
@@ -1216,11 +1789,15 @@ impl Agent {
             let mut session = match session {
                 Ok(s) => s,
                 Err(e) => {
-                    run.emit(Event::DtSessionEnded { outcome: format!("failed: {e}"), steps: 0 });
+                    run.emit(Event::DtSessionEnded {
+                        outcome: format!("failed: {e}"),
+                        steps: 0,
+                    });
                     return Ok(StepEnd::Replan(format!("the view-cone POMDP failed: {e}")));
                 }
             };
             let mut best: Vec<Option<crate::robot::Detection>> = vec![None; set.views.len()];
+            let mut seen_points: BTreeSet<usize> = BTreeSet::new();
             for _ in 0..MAX_DT_STEPS {
                 let t0 = Instant::now();
                 let a = session.next_action();
@@ -1228,8 +1805,14 @@ impl Agent {
                 match a {
                     Ok(ViewConeAction::Process { cone }) => {
                         let v = &set.views[cone];
+                        seen_points.extend(set.cells[cone].iter().copied());
                         let _ = self.go_to(robot, [v.pose[0], v.pose[1]])?;
-                        let vc = ViewCone::new(Pose2D::new(v.pose[0], v.pose[1], v.pose[2]), v.pan, v.tilt, 1.0);
+                        let vc = ViewCone::new(
+                            Pose2D::new(v.pose[0], v.pose[1], v.pose[2]),
+                            v.pan,
+                            v.tilt,
+                            1.0,
+                        );
                         let mut rep = robot.process_view_cone(&vc, &[label.to_string()]);
                         if rep.is_err() {
                             rep = robot.process_view_cone(&vc, &[label.to_string()]);
@@ -1239,14 +1822,19 @@ impl Agent {
                             Ok(r) => r
                                 .detections
                                 .into_iter()
-                                .filter(|d| d.class == label && d.confidence >= self.config.min_confidence)
-                                .filter(|d| self.detection_in(d, loc))
+                                .filter(|d| {
+                                    d.class == label && d.confidence >= self.config.min_confidence
+                                })
+                                .filter(|d| self.detection_in(d, loc, r.pose))
                                 .max_by(|a, b| a.confidence.total_cmp(&b.confidence)),
                             Err(_) => None,
                         };
                         let detected = det.is_some();
                         if let Some(d) = det {
-                            if best[cone].as_ref().is_none_or(|b| b.confidence < d.confidence) {
+                            if best[cone]
+                                .as_ref()
+                                .is_none_or(|b| b.confidence < d.confidence)
+                            {
                                 best[cone] = Some(d);
                             }
                         }
@@ -1263,20 +1851,37 @@ impl Agent {
                         }
                     }
                     Ok(ViewConeAction::DeclareFound { cone }) => {
-                        run.emit(Event::DtAction { action: format!("DECLARE-FOUND cone {cone}"), detected: None });
+                        run.emit(Event::DtAction {
+                            action: format!("DECLARE-FOUND cone {cone}"),
+                            detected: None,
+                        });
                         outcome = best[cone].clone();
                         break;
                     }
                     Ok(ViewConeAction::DeclareAbsent) | Err(_) => {
-                        run.emit(Event::DtAction { action: "DECLARE-ABSENT".into(), detected: None });
+                        run.emit(Event::DtAction {
+                            action: "DECLARE-ABSENT".into(),
+                            detected: None,
+                        });
                         break;
                     }
                 }
             }
             self.sync()?;
+            looked_share = if steps == 0 {
+                // Declared absent without looking: the DT planner's judgement covers the
+                // whole location its cones cover.
+                set.covered_share
+            } else {
+                seen_points.len() as f64 / set.n_points.max(1) as f64
+            };
         }
         run.emit(Event::DtSessionEnded {
-            outcome: if outcome.is_some() { "found".into() } else { "absent".into() },
+            outcome: if outcome.is_some() {
+                "found".into()
+            } else {
+                "absent".into()
+            },
             steps,
         });
         let virtual_obj = obj.starts_with("new-object");
@@ -1287,7 +1892,9 @@ impl Agent {
             .next_back();
         match outcome {
             Some(d) => {
-                let place = self.nearest_room_place([d.pose.x, d.pose.y]).or_else(|| self.current_place());
+                let place = self
+                    .nearest_room_place([d.pose.x, d.pose.y])
+                    .or_else(|| self.current_place());
                 let Some(place) = place else {
                     return Ok(StepEnd::Replan("the robot is on no place".into()));
                 };
@@ -1301,16 +1908,30 @@ impl Agent {
                     ConeLoc::On(j) => Some(j),
                     ConeLoc::Room(_) => None,
                 };
-                self.state_mut().objects.push(Known { class: label.to_string(), pos: d.pose, place, landmark, on });
+                self.state_mut().objects.push(Known {
+                    class: label.to_string(),
+                    pos: d.pose,
+                    place,
+                    landmark,
+                    on,
+                });
                 let name = format!("object{k}");
                 if let Some(a) = &assumption {
                     run.emit(Event::AssumptionConfirmed {
                         assumption: a.clone(),
-                        evidence: format!("{obj} is {name}, a {label} seen with confidence {:.2}", d.confidence),
+                        evidence: format!(
+                            "{obj} is {name}, a {label} seen with confidence {:.2}",
+                            d.confidence
+                        ),
                     });
                 }
                 if label == goal.class {
-                    return Ok(StepEnd::Found(FoundObject { name, class: label.into(), pose: d.pose, confidence: d.confidence }));
+                    return Ok(StepEnd::Found(FoundObject {
+                        name,
+                        class: label.into(),
+                        pose: d.pose,
+                        confidence: d.confidence,
+                    }));
                 }
                 Ok(StepEnd::Replan(if virtual_obj {
                     format!("{obj} matched to the real {label} {name}")
@@ -1319,17 +1940,31 @@ impl Agent {
                 }))
             }
             None => {
-                let q = ((1.0 - self.knowledge.sensor.false_negative) * set.covered_share).clamp(0.0, 0.99);
+                // Thinning by what was looked at: the processed cones' share of the location.
+                let q =
+                    ((1.0 - self.knowledge.sensor.false_negative) * looked_share).clamp(0.0, 0.99);
                 if q > 0.0 {
-                    self.state_mut().wm.concepts.mark_searched(location, label, q)?;
+                    self.state_mut()
+                        .wm
+                        .concepts
+                        .mark_searched(location, label, q)?;
                 }
                 if let ConeLoc::On(k) = loc {
                     self.state_mut().exhausted.insert((k, label.to_string()));
                 }
-                let p_now = self.state().wm.concepts.p_object_at(location, label).unwrap_or(0.0);
-                let why = format!("no {label} found by {display}; P(ObjectAt) {p_loc:.3} -> {p_now:.3}");
+                let p_now = self
+                    .state()
+                    .wm
+                    .concepts
+                    .p_object_at(location, label)
+                    .unwrap_or(0.0);
+                let why =
+                    format!("no {label} found by {display}; P(ObjectAt) {p_map:.3} -> {p_now:.3}");
                 if let Some(a) = &assumption {
-                    run.emit(Event::AssumptionViolated { assumption: a.clone(), reason: why.clone() });
+                    run.emit(Event::AssumptionViolated {
+                        assumption: a.clone(),
+                        reason: why.clone(),
+                    });
                 }
                 Ok(StepEnd::Replan(why))
             }
@@ -1338,7 +1973,7 @@ impl Agent {
 
     /// Whether a detection lies in the searched location (and, for landmarks, is not one the
     /// agent already knows).
-    fn detection_in(&self, d: &crate::robot::Detection, loc: ConeLoc) -> bool {
+    fn detection_in(&self, d: &crate::robot::Detection, loc: ConeLoc, from: Pose2D) -> bool {
         let st = self.state();
         let known = st
             .objects
@@ -1354,16 +1989,35 @@ impl Agent {
                 !known && o.pos.planar_distance(d.pose.x, d.pose.y) <= half + ON_SLACK
             }
             ConeLoc::Room(r) => {
+                let here = [from.x, from.y];
                 !known
-                    && self
-                        .nearest_room_place([d.pose.x, d.pose.y])
-                        .and_then(|n| st.wm.room_of(n))
+                    && self.same_room(here, [d.pose.x, d.pose.y], self.footprint_slack(&d.class))
+                    && self.nearest_room_place(here).and_then(|n| st.wm.room_of(n))
                         == Some(RoomId(r))
             }
         }
     }
 }
 
+/// Camera tilts of a look-around, radians (the horizon band and the floor and furniture tops
+/// near the robot).
+const LOOK_TILTS: [f64; 2] = [-0.15, -0.5];
+/// Placeholders with less unknown open area behind them cannot hide a room and are ignored, m².
+const MIN_OPEN_AREA: f64 = 1.0;
+/// The robot stands at a place when within this distance of it, metres.
+const AT_PLACE: f64 = 0.6;
+/// A waypoint whose motion is this many times longer than the straight line (plus 1 m) means
+/// the known map was wrong: the robot stops there.
+const DETOUR_FACTOR: f64 = 3.0;
+/// Sightings of one class closer than this are one object, metres (the pose noise of a few
+/// metres' range is a few tenths of a metre; false alarms fall anywhere in the view).
+const LOOK_CLUSTER: f64 = 0.7;
+/// Sightings (in overlapping views of one look-around) that make a landmark.
+const LOOK_MIN_SIGHTINGS: usize = 2;
+/// Known free space farther than this from every place is unvisited, metres.
+const UNVISITED_DIST: f64 = 2.5;
+/// Spacing of unvisited-area placeholders, metres.
+const UNVISITED_SPACING: f64 = 3.0;
 /// Share of a room a look-around from one place is taken to cover (the count evidence of
 /// `observe_objects` is thinned by it).
 const LOOK_COVERAGE: f64 = 0.8;
@@ -1379,5 +2033,11 @@ const POSE_SPACING: f64 = 0.7;
 const LOS_SLACK: f64 = 0.45;
 /// Slack around a landmark's footprint for detections "on" it, metres.
 const ON_SLACK: f64 = 0.3;
+/// Floor of the DT session's prior for an object the plan assumes in the location.
+const ASSUMED_PRIOR: f64 = 0.8;
+/// Placeholders of a newly entered room the robot visits at most.
+const ROOM_EXPLORE_STEPS: usize = 3;
+/// How far from where it entered a room the robot looks for the room's placeholders, metres.
+const ROOM_EXPLORE_RADIUS: f64 = 4.0;
 /// Guard on the number of DT decisions per session.
 const MAX_DT_STEPS: usize = 60;

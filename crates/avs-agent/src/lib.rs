@@ -1,12 +1,36 @@
 //! # avs-agent
 //!
-//! The agent of avs. For now this crate holds the boundary between the agent and a robot — the
-//! [`Robot`] trait and its plain data types — and the agent's [`world_model`], which keeps the
-//! place map and the conceptual map in step (the executive that plans and acts comes next). A real robot implements it with its own drivers;
-//! the simulator (`avs-sim`, module `sim_robot`) implements it with the knowledge file's sensor
-//! models. The agent never reads ground truth: everything it learns comes through this trait,
-//! as a real robot would report it (its pose estimate, the laser map, detections with estimated
-//! poses and confidences, and action outcomes, including failures with a reason).
+//! The agent of avs: the switching planner's executive ([`Agent`], Aydemir et al. 2011, `002`
+//! §II-A), the boundary between the agent and a robot (the [`Robot`] trait and its plain data
+//! types), the agent's [`world_model`] (place map and conceptual map in step) and the plan
+//! [`trace`]. A real robot implements [`Robot`] with its own drivers; the simulator (`avs-sim`,
+//! module `sim_robot`) implements it with the knowledge file's sensor models. The agent never
+//! reads ground truth: everything it learns comes through the trait, as a real robot would report
+//! it (its pose estimate, the laser map, detections with estimated poses and confidences, and
+//! action outcomes, including failures with a reason).
+//!
+//! One call per goal: [`Agent::search`] keeps the maps current from robot feedback, asks the
+//! assumptive continual planner (`avs-plan`) for the plan minimising cost(π) + R·(1 − p(π)),
+//! executes it step by step, runs a view-cone POMDP session (`avs-pomdp`) on every
+//! SEARCHFOROBJECT, monitors the rest of the plan after every step and replans with the reason,
+//! and gives up when no plan's success probability clears the threshold. The agent keeps its maps
+//! between goals.
+//!
+//! ```
+//! use avs_agent::{Agent, AgentConfig, Goal};
+//! use avs_sim::sim_robot::{SimAgentRobot, SimRobotConfig};
+//! let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+//! let world = avs_sim::World::load(&root.join("domains/environments/office.yaml")).unwrap();
+//! let knowledge: avs_format::knowledge::Knowledge =
+//!     avs_format::load_yaml(&root.join("knowledge/office.yaml")).unwrap();
+//! let domain = avs_plan::domain::Domain::load(&root.join("domains/object_search.yaml")).unwrap();
+//! let mut robot = SimAgentRobot::new(&world, knowledge.clone(), SimRobotConfig::default(), 1).unwrap();
+//! let mut agent = Agent::new(domain, knowledge, AgentConfig::default()).unwrap();
+//! let report = agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
+//! let found = report.found.expect("the cerealbox is in the kitchen");
+//! assert_eq!(found.class, "cerealbox");
+//! print!("{}", avs_agent::trace::render_text(&report.trace));
+//! ```
 //!
 //! ## Design choices
 //!
@@ -23,13 +47,58 @@
 //!   [`OccupancyGrid`](avs_map::grid::OccupancyGrid) plus how many cells became known since
 //!   the previous update, so an agent can skip re-segmenting when nothing changed.
 //!
-//! ```
-//! use avs_agent::{Pose2D, ViewCone};
-//! let cone = ViewCone::new(Pose2D::new(1.0, 2.0, 0.0), 0.5, -0.2, 2.0);
-//! assert!(cone.check(&avs_format::environment::Camera::default()).is_ok());
-//! let bad = ViewCone { zoom: f64::NAN, ..cone };
-//! assert!(bad.check(&avs_format::environment::Camera::default()).is_err());
-//! ```
+//! ### Executive choices where the paper is vague
+//!
+//! * **Planning problem from the maps.** Places of the place map are `place<N>` (node index),
+//!   door places belong to their neighbouring room of smallest id; placeholders get stable names
+//!   `placeholder<K>` (matched by position within 1 m between map updates; those with less than
+//!   1 m² of unknown open space behind them are ignored); rooms are `room<id>` with category
+//!   `unknown` (categories stay probabilistic); found objects are `object<K>` with
+//!   `found = yes`. Explored placeholders stay in the problem with `leads-to` set to the room they
+//!   led to (or `none`), so the monitor can confirm or contradict ASSUME-LEADS-TO-ROOM.
+//! * **Probabilities** come from the conceptual map: P_category(placeholder) for
+//!   `p-leads-to-room`, the room posterior for `p-category`, P(n ≥ 1) = 1 − e^{−λ} per category
+//!   for `p-object-in`/`p-object-on` (Aydemir et al. 2011, §III-A, eq. 1–2; rates thinned by
+//!   failed searches), 1 − false-negative rate for `p-detect`. A landmark searched in vain for
+//!   the goal class is left out of later problems (the domain's `p-object-on` names classes, not
+//!   instances).
+//! * **ENTER a placeholder** = drive to it, go on 1.5 m into the space beyond (on a short known
+//!   path), turn around, and visit the new room's nearby placeholders (at most 3): the
+//!   assumption gives a new room no open placeholders.
+//! * **Looking around** on entering a room: a pan over the full circle at two tilts for the
+//!   landmark classes; new landmarks seen in the same room (no wall or door hypothesis on the
+//!   sight line) become in/on locations, and the counts are object-count evidence on the room's
+//!   category with a coverage of 0.8 (eq. 1 thinned).
+//! * **SEARCHFOROBJECT** runs a closed-loop view-cone POMDP session (`002` §II-A.2) over the
+//!   cones of CREATEVIEWCONES (greedy coverage, Sjöö et al. `004` §2.1, with line of sight on
+//!   the known map stopping short of furniture footprints). The prior P(ObjectAt L) is spread
+//!   uniformly over the location's points; for an object the plan assumes, it is floored at 0.5
+//!   (the plan runs the session because it assumes the object there). A failed search thins the
+//!   location's rate by q = (1 − FN) × covered share.
+//! * **Monitoring** uses the continual planner's monitor after every physical step; a move onto
+//!   a placeholder and the EXPLORE-PLACEHOLDER that follows run together (the frontier may vanish
+//!   on arrival). After every DT session the agent replans (the virtual object was matched to the
+//!   real one found, or the assumption failed).
+//! * **Unvisited areas.** Rooms exist only where the robot has been (rooms are components of
+//!   the place graph), so a room seen through its door but not entered would be invisible to
+//!   the planner. Known free space more than 2.5 m from every place gets a placeholder (one per
+//!   3 m), attached to the nearest place and set in the conceptual map with the unvisited area
+//!   around it as its open area. Frontier placeholders without a short path on the known map
+//!   from their place are dropped as artefacts.
+//! * **Looking around** counts a landmark only when at least two overlapping views agree within
+//!   0.7 m (the simulated detector's false alarms fall anywhere in a view; a real object is seen
+//!   again by the neighbouring view).
+//! * **Motion** follows the agent's own shortest path on the known map, in 0.5 m waypoints, so the
+//!   place map sees every door crossing; a waypoint that costs more than three times its straight
+//!   length (plus 1 m) means the known map was wrong, and the robot stops there (a failure).
+//! * **Planner mode.** The agent plans in the planner's fast mode (greedy best-first search with
+//!   h^FF): a few milliseconds per plan on the office instead of ~150 ms for A* with h^max, at the
+//!   price of plans that may cost more than the optimum (the continual loop corrects them).
+//!   Assumptions a plan was made with although already below the monitor's bound do not trigger
+//!   a replan later (the planner would return the same plan).
+//! * **Budgets:** at most 40 plans and 150 actions per goal, then it gives up and says so.
+//! * **Determinism.** Trace events carry no wall-clock times; with the planner's default expansion
+//!   budgets and a seeded robot, the same seed gives byte-identical JSON lines.
 #![warn(missing_docs)]
 
 pub mod agent;

@@ -113,7 +113,8 @@ impl Event {
     pub fn json_line(&self) -> String {
         // Serialising plain data with finite or non-finite floats cannot fail with serde_json
         // (non-finite numbers become null).
-        serde_json::to_string(self).unwrap_or_else(|e| format!("{{\"event\":\"error\",\"message\":\"{e}\"}}"))
+        serde_json::to_string(self)
+            .unwrap_or_else(|e| format!("{{\"event\":\"error\",\"message\":\"{e}\"}}"))
     }
 
     /// The event as text in the papers' listing style (one or more lines, each ending in `\n`).

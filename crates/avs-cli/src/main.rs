@@ -18,6 +18,10 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// The default job: search the shipped office for the cerealbox and print the plan trace.
+    Run(cmd::run::Args),
+    /// Search a simulated environment for an object class; print the trace and a summary.
+    Search(cmd::search::Args),
     /// Check avs files (environment, knowledge, domain, scenario) and report every problem.
     Validate(cmd::validate::Args),
     /// Print the JSON Schema of an avs file kind.
@@ -44,6 +48,8 @@ fn main() -> ExitCode {
         .init();
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Run(a) => cmd::run::run(a),
+        Command::Search(a) => cmd::search::run(a),
         Command::Validate(a) => cmd::validate::run(a),
         Command::Schema(a) => cmd::schema::run(a),
         Command::Segment(a) => cmd::segment::run(a),

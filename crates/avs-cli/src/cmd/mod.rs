@@ -6,6 +6,8 @@ pub mod infer;
 pub mod plan;
 pub mod pomdp;
 pub mod render;
+pub mod run;
 pub mod schema;
+pub mod search;
 pub mod segment;
 pub mod validate;
