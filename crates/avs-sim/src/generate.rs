@@ -233,22 +233,13 @@ pub fn generate(
             for _ in 0..poisson(&mut rng, lambda).min(3) {
                 if let Some(fp) = place_furniture(&mut rng, rect, cls.size, &footprints) {
                     footprints.push(fp);
-                    let id = new_id(&cls.name);
-                    objects.push(Object {
-                        id: id.clone(),
-                        class: cls.name.clone(),
-                        role: ObjectRole::Landmark,
-                        pose: Pose {
-                            x: (fp.x0 + fp.x1) / 2.0,
-                            y: (fp.y0 + fp.y1) / 2.0,
-                            z: 0.0,
-                            yaw_deg: 0.0,
-                        },
-                        size: cls.size,
-                        room: rooms[k].name.clone(),
-                        on: None,
-                        r#in: None,
-                    });
+                    objects.push(standing(
+                        cls,
+                        fp,
+                        &rooms[k].name,
+                        new_id(&cls.name),
+                        ObjectRole::Landmark,
+                    ));
                     landmarks_here.push(objects.len() - 1);
                 }
             }
@@ -278,7 +269,13 @@ pub fn generate(
             let lambda = knowledge.object_rates.get(&cls.name).map_or(0.0, |r| r[c]);
             for _ in 0..poisson(&mut rng, lambda).min(3) {
                 if let Some(fp) = place_box(&mut rng, rect, cls.size, &footprints, 0.3) {
-                    objects.push(on_floor(cls, fp, &rooms[k].name, new_id(&cls.name)));
+                    objects.push(standing(
+                        cls,
+                        fp,
+                        &rooms[k].name,
+                        new_id(&cls.name),
+                        ObjectRole::Target,
+                    ));
                 }
             }
         }
@@ -319,7 +316,13 @@ pub fn generate(
                 let (k, rect, _) = rects[rng.gen_range(0..rects.len())];
                 let fp = place_box(&mut rng, rect, cls.size, &[], 0.3)
                     .ok_or_else(|| GenerateError::Invalid(format!("no room fits a `{target}`")))?;
-                objects.push(on_floor(cls, fp, &rooms[k].name, new_id(&cls.name)));
+                objects.push(standing(
+                    cls,
+                    fp,
+                    &rooms[k].name,
+                    new_id(&cls.name),
+                    ObjectRole::Target,
+                ));
             }
         }
     }
@@ -359,12 +362,18 @@ pub fn generate(
     })
 }
 
-/// A target object lying on the floor in footprint `fp`.
-fn on_floor(cls: &avs_format::knowledge::ObjectClass, fp: Rect, room: &str, id: String) -> Object {
+/// An object standing on the floor in footprint `fp`.
+fn standing(
+    cls: &avs_format::knowledge::ObjectClass,
+    fp: Rect,
+    room: &str,
+    id: String,
+    role: ObjectRole,
+) -> Object {
     Object {
         id,
         class: cls.name.clone(),
-        role: ObjectRole::Target,
+        role,
         pose: Pose {
             x: (fp.x0 + fp.x1) / 2.0,
             y: (fp.y0 + fp.y1) / 2.0,
@@ -437,19 +446,22 @@ fn place_furniture(
                 x1: x + w / 2.0,
                 y1: y + d / 2.0,
             };
-            if r.x1 <= room.x1
-                && taken.iter().all(|t| {
-                    r.x1 + 1.3 <= t.x0
-                        || t.x1 + 1.3 <= r.x0
-                        || r.y1 + 1.3 <= t.y0
-                        || t.y1 + 1.3 <= r.y0
-                })
-            {
+            if r.x1 <= room.x1 && clear_of(r, taken, 1.3) {
                 return Some(r);
             }
         }
     }
     place_box(rng, room, size, taken, 1.3)
+}
+
+/// Whether footprint `r` keeps at least `margin` metres from every footprint in `taken`.
+fn clear_of(r: Rect, taken: &[Rect], margin: f64) -> bool {
+    taken.iter().all(|t| {
+        r.x1 + margin <= t.x0
+            || t.x1 + margin <= r.x0
+            || r.y1 + margin <= t.y0
+            || t.y1 + margin <= r.y0
+    })
 }
 
 /// A free axis-aligned footprint for a box of `size` in `room`, at least `margin` metres from the
@@ -475,12 +487,7 @@ fn place_box(
             x1: x + w / 2.0,
             y1: y + d / 2.0,
         };
-        let clear = taken.iter().all(|t| {
-            r.x1 + margin <= t.x0
-                || t.x1 + margin <= r.x0
-                || r.y1 + margin <= t.y0
-                || t.y1 + margin <= r.y0
-        });
+        let clear = clear_of(r, taken, margin);
         if clear {
             return Some(r);
         }
