@@ -6,9 +6,14 @@
 //! * **Paths** join places the robot travelled between, and places that see each other over
 //!   known free space within `2.5 × spacing` — but a path never crosses a door opening unless one
 //!   end is that door's place, so doors stay cut points.
-//! * **Doors** are the hypotheses of [`crate::doors::detect_doors`] on the known grid. When the
-//!   robot's motion crosses a hypothesis's opening it is *confirmed* and a door place is put at its
-//!   centre, between the places on either side.
+//! * **Doors** are the hypotheses of [`crate::doors::detect_doors`], run on an optimistic copy of
+//!   the known grid (unknown taken as free, so a doorway seen from one side qualifies) and kept
+//!   when the opening has been seen and sits in a wall ([`in_a_wall`]: the obstacle continues
+//!   along the opening's line beyond both jambs — the gap between a table and a wall does not).
+//!   When the robot's motion crosses an opening the door is *confirmed*: a door place is put at
+//!   its centre, places dropped in the doorway before are absorbed into it, and earlier paths
+//!   across the opening (or the wall within a metre of it) are cut, so every way through runs
+//!   via the door place.
 //! * **Placeholders** sit on the frontier between known free and unknown space: one per connected
 //!   frontier segment at least `min_frontier` long, hanging off the nearest place that sees it,
 //!   with the unknown open area behind it (flood fill through unknown cells, up to
