@@ -471,6 +471,42 @@ impl Parser {
 
     fn t_entry(&mut self, names: &Names, trans: &mut [f64]) -> Result<()> {
         let ns = names.states.len();
+        self.table_entry(
+            names,
+            trans,
+            Kind::State,
+            ns,
+            "a transition probability",
+            true,
+        )
+    }
+
+    fn o_entry(&mut self, names: &Names, obs: &mut [f64]) -> Result<()> {
+        let no = names.observations.len();
+        self.table_entry(
+            names,
+            obs,
+            Kind::Observation,
+            no,
+            "an observation probability",
+            false,
+        )
+    }
+
+    /// One `T:` or `O:` entry: a table indexed `[action][state][col]` with `ncols` columns of
+    /// kind `col` (end states for T, observations for O). Forms: `a : s : col p`, `a : s` and a
+    /// row (or `uniform`), `a` and a matrix (or `uniform`, or `identity` where `identity_ok`).
+    fn table_entry(
+        &mut self,
+        names: &Names,
+        table: &mut [f64],
+        col: Kind,
+        ncols: usize,
+        what: &str,
+        identity_ok: bool,
+    ) -> Result<()> {
+        let ns = names.states.len();
+        let na = names.actions.len();
         self.expect_colon()?;
         let a = self.spec(names, Kind::Action)?;
         if self.peek() == Some(":") {
@@ -478,25 +514,25 @@ impl Parser {
             let s = self.spec(names, Kind::State)?;
             if self.peek() == Some(":") {
                 self.pos += 1;
-                let s2 = self.spec(names, Kind::State)?;
-                let p = self.number("a transition probability")?;
-                for a in a.range(names.actions.len()) {
+                let c = self.spec(names, col)?;
+                let p = self.number(what)?;
+                for a in a.range(na) {
                     for s in s.range(ns) {
-                        for s2 in s2.range(ns) {
-                            trans[(a * ns + s) * ns + s2] = p;
+                        for c in c.range(ncols) {
+                            table[(a * ns + s) * ncols + c] = p;
                         }
                     }
                 }
             } else {
                 let row = if self.peek() == Some("uniform") {
                     self.pos += 1;
-                    vec![1.0 / ns as f64; ns]
+                    vec![1.0 / ncols as f64; ncols]
                 } else {
-                    self.numbers(ns, "a transition probability")?
+                    self.numbers(ncols, what)?
                 };
-                for a in a.range(names.actions.len()) {
+                for a in a.range(na) {
                     for s in s.range(ns) {
-                        trans[(a * ns + s) * ns..(a * ns + s + 1) * ns].copy_from_slice(&row);
+                        table[(a * ns + s) * ncols..(a * ns + s + 1) * ncols].copy_from_slice(&row);
                     }
                 }
             }
@@ -504,65 +540,18 @@ impl Parser {
             let m: Vec<f64> = match self.peek() {
                 Some("uniform") => {
                     self.pos += 1;
-                    vec![1.0 / ns as f64; ns * ns]
+                    vec![1.0 / ncols as f64; ns * ncols]
                 }
-                Some("identity") => {
+                Some("identity") if identity_ok => {
                     self.pos += 1;
-                    (0..ns * ns)
-                        .map(|i| if i / ns == i % ns { 1.0 } else { 0.0 })
+                    (0..ns * ncols)
+                        .map(|i| if i / ncols == i % ncols { 1.0 } else { 0.0 })
                         .collect()
                 }
-                _ => self.numbers(ns * ns, "a transition probability")?,
+                _ => self.numbers(ns * ncols, what)?,
             };
-            for a in a.range(names.actions.len()) {
-                trans[a * ns * ns..(a + 1) * ns * ns].copy_from_slice(&m);
-            }
-        }
-        Ok(())
-    }
-
-    fn o_entry(&mut self, names: &Names, obs: &mut [f64]) -> Result<()> {
-        let ns = names.states.len();
-        let no = names.observations.len();
-        self.expect_colon()?;
-        let a = self.spec(names, Kind::Action)?;
-        if self.peek() == Some(":") {
-            self.pos += 1;
-            let s2 = self.spec(names, Kind::State)?;
-            if self.peek() == Some(":") {
-                self.pos += 1;
-                let z = self.spec(names, Kind::Observation)?;
-                let p = self.number("an observation probability")?;
-                for a in a.range(names.actions.len()) {
-                    for s2 in s2.range(ns) {
-                        for z in z.range(no) {
-                            obs[(a * ns + s2) * no + z] = p;
-                        }
-                    }
-                }
-            } else {
-                let row = if self.peek() == Some("uniform") {
-                    self.pos += 1;
-                    vec![1.0 / no as f64; no]
-                } else {
-                    self.numbers(no, "an observation probability")?
-                };
-                for a in a.range(names.actions.len()) {
-                    for s2 in s2.range(ns) {
-                        obs[(a * ns + s2) * no..(a * ns + s2 + 1) * no].copy_from_slice(&row);
-                    }
-                }
-            }
-        } else {
-            let m: Vec<f64> = match self.peek() {
-                Some("uniform") => {
-                    self.pos += 1;
-                    vec![1.0 / no as f64; ns * no]
-                }
-                _ => self.numbers(ns * no, "an observation probability")?,
-            };
-            for a in a.range(names.actions.len()) {
-                obs[a * ns * no..(a + 1) * ns * no].copy_from_slice(&m);
+            for a in a.range(na) {
+                table[a * ns * ncols..(a + 1) * ns * ncols].copy_from_slice(&m);
             }
         }
         Ok(())
