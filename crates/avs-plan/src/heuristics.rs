@@ -18,9 +18,9 @@ use std::collections::BinaryHeap;
 
 const EPS: f64 = 1e-9;
 
-/// Total-order wrapper for non-NaN f64 priorities.
+/// Total-order wrapper for f64 priorities (`total_cmp`), shared by the heuristics and the search.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Prio(f64);
+pub(crate) struct Prio(pub(crate) f64);
 impl Eq for Prio {}
 impl PartialOrd for Prio {
     fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {

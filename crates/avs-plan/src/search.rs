@@ -18,7 +18,7 @@
 //! Ties on f are broken by smaller heuristic (deeper first), then by generation order (FIFO), so
 //! runs are deterministic.
 
-use crate::heuristics::{Relaxed, Workspace};
+use crate::heuristics::{Prio, Relaxed, Workspace};
 use crate::task::{Plan, SearchStats, Task, Val};
 use crate::PlanError;
 use std::cmp::Reverse;
@@ -164,20 +164,6 @@ impl Registry {
         let w = self.packer.words;
         let i = id as usize * w;
         self.packer.unpack(&self.data[i..i + w], out);
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Prio(f64);
-impl Eq for Prio {}
-impl PartialOrd for Prio {
-    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(o))
-    }
-}
-impl Ord for Prio {
-    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&o.0)
     }
 }
 
