@@ -5,18 +5,7 @@ use avs_map::grid::OccupancyGrid;
 use avs_map::segment::{segment_rooms, SegmentParams};
 use criterion::{criterion_group, criterion_main, Criterion};
 
-const MAPS: [&str; 10] = [
-    "Freiburg52_scan",
-    "lab_a_scan",
-    "lab_b_scan",
-    "lab_c_scan",
-    "lab_ipa",
-    "office_a",
-    "office_b",
-    "office_c",
-    "office_d",
-    "office_e",
-];
+use avs_testdata::ROOM_MAPS as MAPS;
 
 fn bench(c: &mut Criterion) {
     let Some(dir) = avs_testdata::reference_data("rooms") else {

@@ -8,18 +8,7 @@ use avs_map::metrics::{load_truth_image, score, SegmentationScore};
 use avs_map::segment::{segment_rooms, SegmentParams};
 use std::path::Path;
 
-const MAPS: [&str; 10] = [
-    "Freiburg52_scan",
-    "lab_a_scan",
-    "lab_b_scan",
-    "lab_c_scan",
-    "lab_ipa",
-    "office_a",
-    "office_b",
-    "office_c",
-    "office_d",
-    "office_e",
-];
+use avs_testdata::ROOM_MAPS as MAPS;
 
 fn run(dir: &Path, map: &str, variant: &str) -> SegmentationScore {
     let grid = OccupancyGrid::from_map_server_yaml(&dir.join(format!("{map}{variant}.yaml")))

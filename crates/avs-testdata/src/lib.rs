@@ -15,6 +15,21 @@
 use std::io::Write;
 use std::path::PathBuf;
 
+/// The ten plain maps of `rooms/` (the IPA room segmentation benchmark); each also has a
+/// `_furnitures` variant and a `_gt_segmentation.png` ground truth.
+pub const ROOM_MAPS: [&str; 10] = [
+    "Freiburg52_scan",
+    "lab_a_scan",
+    "lab_b_scan",
+    "lab_c_scan",
+    "lab_ipa",
+    "office_a",
+    "office_b",
+    "office_c",
+    "office_d",
+    "office_e",
+];
+
 /// The reference data folder `sub` (e.g. `"bp"`, `"rooms"`), or `None` with a notice on stderr.
 pub fn reference_data(sub: &str) -> Option<PathBuf> {
     let root = std::env::var_os("AVS_REFERENCE_DATA")
