@@ -27,6 +27,8 @@ use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::time::Instant;
 
+pub mod baseline;
+
 /// Errors that stop the agent before it can search (bad goal, inconsistent knowledge).
 #[derive(Debug, thiserror::Error)]
 pub enum AgentError {
@@ -79,6 +81,37 @@ pub struct AgentConfig {
     pub travel_cost_per_m: f64,
     /// Largest number of view cones per location.
     pub max_cones: usize,
+    /// How the agent decides where to go and look.
+    pub strategy: Strategy,
+}
+
+/// How the agent decides where to go and look: the switching planner, or one of the two
+/// baselines the benchmark compares it with (see [`baseline`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Strategy {
+    /// The switching planner: assumptive continual planning over the conceptual map, view-cone
+    /// POMDP sessions, indirect search on landmarks (Aydemir et al. 2011).
+    #[default]
+    Planner,
+    /// No prior knowledge: rooms covered nearest-first by view planning (Sjöö et al., `004`).
+    Uninformed,
+    /// Nearest-frontier exploration, searching each room as it is found.
+    Frontier,
+}
+
+impl std::str::FromStr for Strategy {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "planner" => Ok(Self::Planner),
+            "uninformed" => Ok(Self::Uninformed),
+            "frontier" => Ok(Self::Frontier),
+            _ => Err(format!(
+                "unknown strategy `{s}`; expected planner, uninformed or frontier"
+            )),
+        }
+    }
 }
 
 impl Default for AgentConfig {
@@ -87,10 +120,25 @@ impl Default for AgentConfig {
             places: PlaceMapParams::default(),
             planner: {
                 let mut o = ContinualOptions::default();
-                o.search.mode = avs_plan::Mode::Fast;
+                o.search.mode = avs_plan::Mode::Optimal;
+                // An optimal plan not found in this many expansions is not worth the robot's
+                // waiting: the agent plans again in fast mode (greedy, h^FF).
+                o.search.max_expansions = 200_000;
+                // The paper's 0.01 gives up while unexplored rooms remain on floors with many
+                // rooms: a plan into one unexplored room of several succeeds with ~0.01 (P(leads
+                // to a kitchen) × P(counter) × P(object on it) × detection²). Give up only when
+                // the best plan is well below that.
+                o.min_success = 0.002;
                 o
             },
-            session: SessionOptions::default(),
+            session: {
+                // A smaller offline budget than the solver's default: a session over 24 cones
+                // has 625 product states, and the online look-ahead refines the bounds anyway.
+                let mut o = SessionOptions::default();
+                o.offline.max_trials = 10;
+                o.offline.init_iterations = 40;
+                o
+            },
             max_plans: 40,
             max_actions: 150,
             min_confidence: 0.5,
@@ -98,6 +146,7 @@ impl Default for AgentConfig {
             process_cost: 1.0,
             travel_cost_per_m: 0.5,
             max_cones: 24,
+            strategy: Strategy::Planner,
         }
     }
 }
@@ -204,6 +253,8 @@ enum ConeLoc {
 #[derive(Debug, Clone)]
 struct ConeSet {
     views: Vec<PlannedView>,
+    /// The location's points the cones were planned for.
+    points: Vec<[f64; 3]>,
     cells: Vec<Vec<usize>>,
     n_points: usize,
     covered_share: f64,
@@ -320,6 +371,8 @@ struct State {
 #[derive(Debug, Clone)]
 pub struct Agent {
     planner: ContinualPlanner,
+    /// The same planner in fast mode: used when the configured search hits its limit.
+    fallback: ContinualPlanner,
     knowledge: Knowledge,
     config: AgentConfig,
     state: Option<State>,
@@ -390,6 +443,11 @@ impl Agent {
         // Fail early on knowledge the conceptual map cannot use.
         ConceptualMap::new("knowledge", &knowledge)?;
         Ok(Self {
+            fallback: ContinualPlanner::new(domain.clone(), {
+                let mut o = config.planner;
+                o.search.mode = avs_plan::Mode::Fast;
+                o
+            }),
             planner: ContinualPlanner::new(domain, config.planner),
             knowledge,
             config,
@@ -465,7 +523,10 @@ impl Agent {
             self.sync()?;
         }
         self.look_around(robot, &mut run)?;
-        let (found, reason) = self.main_loop(robot, &goal, &mut run)?;
+        let (found, reason) = match self.config.strategy {
+            Strategy::Planner => self.main_loop(robot, &goal, &mut run)?,
+            s => self.baseline_loop(robot, &goal, s, &mut run)?,
+        };
         run.metrics.path_length = robot.odometry() - start_odo;
         Ok(SearchReport {
             found,
@@ -513,7 +574,13 @@ impl Agent {
                     cm: &st.wm.concepts,
                     p_detect,
                 };
-                self.planner.plan(&snap.problem, &f)
+                match self.planner.plan(&snap.problem, &f) {
+                    Err(avs_plan::PlanError::SearchLimit(n)) => {
+                        tracing::debug!(expansions = n, "planning again in fast mode");
+                        self.fallback.plan(&snap.problem, &f)
+                    }
+                    other => other,
+                }
             };
             run.metrics.plan_ms.push(t0.elapsed().as_secs_f64() * 1e3);
             let plan = match decision {
@@ -794,7 +861,12 @@ impl Agent {
                 })
                 .collect()
         };
-        let extras = self.unvisited_areas()?;
+        let offered: Vec<[f64; 2]> = cands
+            .iter()
+            .filter(|(_, skip)| !skip)
+            .map(|(c, _)| c.pos)
+            .collect();
+        let extras = self.unvisited_areas(&offered)?;
         cands.extend(extras.into_iter().map(|c| (c, false)));
         let st = self.state_mut();
         // Name them: keep the name of a tracked one within 1 m; skip those next to an explored
@@ -841,11 +913,12 @@ impl Agent {
         Ok(())
     }
 
-    /// Known free space far from every place: unvisited areas (a room seen through its door
+    /// Known free space far from every place and from the offered `frontier` placeholders:
+    /// unvisited areas (a room seen through its door
     /// but not entered has no places, so the place map has no room for it). One placeholder per
     /// area, attached to the nearest place, set in the conceptual map with the open area around
     /// it so that P_category(placeholder) applies (Aydemir et al. 2011, §III-A.1).
-    fn unvisited_areas(&mut self) -> Result<Vec<Cand>, AgentError> {
+    fn unvisited_areas(&mut self, frontier: &[[f64; 2]]) -> Result<Vec<Cand>, AgentError> {
         let (grid, radius) = (self.state().grid.clone(), self.config.robot_radius);
         let trav = Traversability::new(&grid, radius, false);
         let res = grid.resolution();
@@ -856,10 +929,14 @@ impl Agent {
         if places.is_empty() {
             return Ok(Vec::new());
         }
+        // Distance to the nearest place that sees the point (a place behind a wall does not
+        // make the space beyond it visited).
         let near_place = |p: [f64; 2]| {
             places
                 .iter()
-                .map(|q| dist(*q, p))
+                .map(|q| (q, dist(*q, p)))
+                .filter(|(q, d)| *d <= UNVISITED_DIST && line_of_sight(&grid, **q, p, false))
+                .map(|(_, d)| d)
                 .fold(f64::INFINITY, f64::min)
         };
         let step = (1.0 / res).round().max(1.0) as usize;
@@ -878,32 +955,43 @@ impl Agent {
                     continue;
                 }
                 let st = self.state();
-                if st
-                    .wm
-                    .places
-                    .placeholders
-                    .iter()
-                    .any(|ph| dist(ph.pos, pos) < 2.0)
+                if frontier.iter().any(|f| dist(*f, pos) < 2.0)
                     || st
                         .registry
                         .iter()
                         .any(|e| e.explored.is_some() && dist(e.pos, pos) < 2.0)
                 {
+                    tracing::debug!(?pos, "unvisited area near a placeholder");
                     continue;
                 }
-                let Some(attach) = self.nearest_room_place(pos) else {
+                // Attach to the place it is reached from: of the few nearest places with a
+                // room, the one with the shortest known path (the nearest in a straight line
+                // may be behind a wall).
+                let mut near: Vec<(NodeIndex, f64)> = st
+                    .wm
+                    .places
+                    .graph
+                    .node_indices()
+                    .filter(|&n| st.wm.room_of(n).is_some())
+                    .map(|n| (n, dist(st.wm.places.graph[n].pos, pos)))
+                    .collect();
+                near.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+                let best = near
+                    .iter()
+                    .take(ATTACH_CANDIDATES)
+                    .filter_map(|&(n, d)| {
+                        let a = st.wm.places.graph[n].pos;
+                        let l = self.known_path_len(a, pos)?;
+                        (l <= 2.0 * d + 2.0).then_some((n, l))
+                    })
+                    .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+                let Some((attach, _)) = best else {
+                    tracing::debug!(?pos, "unvisited area without a short path");
                     continue;
                 };
                 let Some(room) = st.wm.room_of(attach) else {
                     continue;
                 };
-                let a = st.wm.places.graph[attach].pos;
-                if self
-                    .known_path_len(a, pos)
-                    .is_none_or(|l| l > 2.0 * dist(a, pos) + 2.0)
-                {
-                    continue;
-                }
                 // Unvisited free area within 2.5 m of it.
                 let r = (2.5 / res).ceil() as i64;
                 let (c0, r0) = grid.world_to_cell(x, y);
@@ -1127,6 +1215,11 @@ impl Agent {
             }
         }
         s.problem = p.goal(&format!("reported({goal}) = yes"));
+        if tracing::enabled!(tracing::Level::DEBUG) {
+            for (name, r) in &s.placeholders {
+                tracing::debug!(placeholder = %name, pos = ?s.pos.get(name), what = ?r, "snapshot");
+            }
+        }
         s
     }
 
@@ -1235,7 +1328,10 @@ impl Agent {
             .collect();
         let pose = robot.pose();
         let mut dets: Vec<crate::robot::Detection> = Vec::new();
-        let n_views = (std::f64::consts::TAU / cam.hfov_deg.to_radians().max(0.1)).ceil() as usize;
+        // Pans half a field of view apart: every direction is in two views, so that a real
+        // landmark can collect the LOOK_MIN_SIGHTINGS that a false alarm rarely does.
+        let n_views =
+            (std::f64::consts::TAU / (0.5 * cam.hfov_deg.to_radians()).max(0.05)).ceil() as usize;
         let mut failed = 0;
         for k in 0..n_views {
             let pan = (-std::f64::consts::PI + std::f64::consts::TAU * k as f64 / n_views as f64)
@@ -1266,16 +1362,48 @@ impl Agent {
                 None => clusters.push((d, 1)),
             }
         }
-        // The views overlap: a real landmark is seen more than once, a false alarm rarely.
-        let clusters: Vec<crate::robot::Detection> = clusters
-            .into_iter()
-            .filter(|(_, n)| *n >= LOOK_MIN_SIGHTINGS)
-            .map(|(d, _)| d)
-            .collect();
+        // The views overlap: a real landmark is seen more than once, a false alarm rarely. A
+        // sighting seen once is looked at again through a view centred on it (where the
+        // detector is at its best): a real landmark shows again with probability 1 − FN, a
+        // false alarm within LOOK_CLUSTER of the first only by chance.
+        let mut confirmed = Vec::new();
+        for (d, mut n) in clusters {
+            if n < LOOK_MIN_SIGHTINGS {
+                let (dx, dy) = (d.pose.x - pose.x, d.pose.y - pose.y);
+                let pan = (dy.atan2(dx) - pose.yaw + std::f64::consts::PI)
+                    .rem_euclid(std::f64::consts::TAU)
+                    - std::f64::consts::PI;
+                let tilt = (d.pose.z - cam.height)
+                    .atan2(dx.hypot(dy))
+                    .clamp(cam.tilt_deg[0].to_radians(), cam.tilt_deg[1].to_radians());
+                let pan = pan.clamp(cam.pan_deg[0].to_radians(), cam.pan_deg[1].to_radians());
+                let again = robot
+                    .process_view_cone(
+                        &ViewCone::new(pose, pan, tilt, 1.0),
+                        std::slice::from_ref(&d.class),
+                    )
+                    .map(|r| {
+                        r.detections.iter().any(|e| {
+                            e.class == d.class
+                                && e.confidence >= self.config.min_confidence
+                                && e.pose.planar_distance(d.pose.x, d.pose.y) < LOOK_CLUSTER
+                        })
+                    })
+                    .unwrap_or(false);
+                if again {
+                    n += 1;
+                }
+            }
+            if n >= LOOK_MIN_SIGHTINGS {
+                confirmed.push(d);
+            }
+        }
+        let clusters = confirmed;
         let mut counts: BTreeMap<String, u32> = classes.iter().map(|c| (c.clone(), 0)).collect();
         for d in clusters {
             let slack = self.footprint_slack(&d.class);
             if !self.same_room([pose.x, pose.y], [d.pose.x, d.pose.y], slack) {
+                tracing::debug!(class = %d.class, x = d.pose.x, y = d.pose.y, "landmark in another room");
                 continue; // seen through a door: another room
             }
             let near = self
@@ -1551,8 +1679,11 @@ impl Agent {
             if let Some(e) = self.state_mut().registry.iter_mut().find(|e| e.id == id) {
                 e.explored = Some((room.0, None));
             }
-            if r.is_ok() {
-                self.turn_around(robot)?;
+            match r {
+                Ok(()) => self.turn_around(robot)?,
+                Err(e) => run.emit(Event::Observed {
+                    what: format!("exploring room{} from {name}: {e}", room.0),
+                }),
             }
         }
         let now = self.current_room();
@@ -1600,27 +1731,7 @@ impl Agent {
             self.nearest_room_place([x, y]).and_then(|n| wm.room_of(n)) == Some(RoomId(r))
         };
         let (points, center, reach): (Vec<[f64; 3]>, Option<[f64; 2]>, f64) = match loc {
-            ConeLoc::Room(r) => {
-                let z = if class.landmark {
-                    class.size[2] * 0.5
-                } else {
-                    SMALL_OBJECT_Z
-                };
-                let step = (POINT_SPACING / res).round().max(1.0) as usize;
-                let mut pts = Vec::new();
-                for row in (0..grid.height()).step_by(step) {
-                    for col in (0..grid.width()).step_by(step) {
-                        if grid.get(col, row) == Cell::Unknown {
-                            continue;
-                        }
-                        let (x, y) = grid.cell_center(col as i64, row as i64);
-                        if in_room(x, y, r) {
-                            pts.push([x, y, z]);
-                        }
-                    }
-                }
-                (pts, None, 0.0)
-            }
+            ConeLoc::Room(r) => (self.room_points(r, &class), None, 0.0),
             ConeLoc::On(k) => {
                 let o = &st.objects[k];
                 let lm = self.knowledge.class(&o.class);
@@ -1658,9 +1769,11 @@ impl Agent {
                 }
             }
         }
+        // A point counts as covered only in the central part of the image: towards the border
+        // the detector's confidence falls (partly cut-off objects) below `min_confidence`.
         let camera = CameraModel {
-            hfov: cam.hfov_deg.to_radians(),
-            vfov: cam.vfov_deg.to_radians(),
+            hfov: COVER_FOV_SHARE * cam.hfov_deg.to_radians(),
+            vfov: COVER_FOV_SHARE * cam.vfov_deg.to_radians(),
             pan_limits: cam.pan_deg.map(f64::to_radians),
             tilt_limits: cam.tilt_deg.map(f64::to_radians),
             height: cam.height,
@@ -1697,12 +1810,14 @@ impl Agent {
                 ConeSet {
                     cells: p.cone_cells(),
                     views: p.views,
+                    points: points.clone(),
                     n_points,
                     covered_share: share,
                 }
             }
             None => ConeSet {
                 views: Vec::new(),
+                points: points.clone(),
                 cells: Vec::new(),
                 n_points: 0,
                 covered_share: 0.0,
@@ -1717,6 +1832,37 @@ impl Agent {
             ),
         });
         self.state_mut().cones.insert((label.to_string(), loc), set);
+    }
+
+    /// The points of room `r` where an object of `class` may be: known cells every
+    /// [`POINT_SPACING`], at half the class's height for furniture and at table height for
+    /// small objects.
+    fn room_points(&self, r: u64, class: &avs_format::knowledge::ObjectClass) -> Vec<[f64; 3]> {
+        let st = self.state();
+        let grid = &st.grid;
+        let z = if class.landmark {
+            class.size[2] * 0.5
+        } else {
+            SMALL_OBJECT_Z
+        };
+        let step = (POINT_SPACING / grid.resolution()).round().max(1.0) as usize;
+        let mut pts = Vec::new();
+        for row in (0..grid.height()).step_by(step) {
+            for col in (0..grid.width()).step_by(step) {
+                if grid.get(col, row) == Cell::Unknown {
+                    continue;
+                }
+                let (x, y) = grid.cell_center(col as i64, row as i64);
+                if self
+                    .nearest_room_place([x, y])
+                    .and_then(|n| st.wm.room_of(n))
+                    == Some(RoomId(r))
+                {
+                    pts.push([x, y, z]);
+                }
+            }
+        }
+        pts
     }
 
     /// SEARCHFOROBJECT: a closed-loop view-cone POMDP session over the location's cones
@@ -1760,6 +1906,7 @@ impl Agent {
             p_location: p_loc,
         });
         let mut outcome: Option<crate::robot::Detection> = None;
+        let mut unconfirmed: Option<usize> = None;
         let mut steps = 0;
         let mut looked_share = 0.0;
         if !set.views.is_empty() {
@@ -1806,7 +1953,11 @@ impl Agent {
                     Ok(ViewConeAction::Process { cone }) => {
                         let v = &set.views[cone];
                         seen_points.extend(set.cells[cone].iter().copied());
-                        let _ = self.go_to(robot, [v.pose[0], v.pose[1]])?;
+                        if let Err(e) = self.go_to(robot, [v.pose[0], v.pose[1]])? {
+                            run.emit(Event::Observed {
+                                what: format!("on the way to view cone {cone}: {e}"),
+                            });
+                        }
                         let vc = ViewCone::new(
                             Pose2D::new(v.pose[0], v.pose[1], v.pose[2]),
                             v.pan,
@@ -1855,7 +2006,12 @@ impl Agent {
                             action: format!("DECLARE-FOUND cone {cone}"),
                             detected: None,
                         });
-                        outcome = best[cone].clone();
+                        if let Some(d) = best[cone].clone() {
+                            match self.verify(robot, label, &d, run)? {
+                                Some(v) => outcome = Some(v),
+                                None => unconfirmed = Some(cone),
+                            }
+                        }
                         break;
                     }
                     Ok(ViewConeAction::DeclareAbsent) | Err(_) => {
@@ -1877,13 +2033,20 @@ impl Agent {
             };
         }
         run.emit(Event::DtSessionEnded {
-            outcome: if outcome.is_some() {
-                "found".into()
-            } else {
-                "absent".into()
+            outcome: match (&outcome, unconfirmed) {
+                (Some(_), _) => "found".into(),
+                (None, Some(_)) => "false alarm".into(),
+                (None, None) => "absent".into(),
             },
             steps,
         });
+        if let (None, Some(cone)) = (&outcome, unconfirmed) {
+            // A sighting a closer look did not confirm says nothing either way about the rest
+            // of the location: replan without thinning its probability.
+            return Ok(StepEnd::Replan(format!(
+                "the {label} seen in view cone {cone} was not confirmed by a closer look"
+            )));
+        }
         let virtual_obj = obj.starts_with("new-object");
         let assumption = plan.steps[..i]
             .iter()
@@ -1971,6 +2134,125 @@ impl Agent {
         }
     }
 
+    /// Verify a sighting before reporting it (the verification step of Masuzawa & Miura,
+    /// `001` §4, reduced to one viewpoint): from the reachable point nearest the robot at the
+    /// middle of the class's recognition range, with a clear line of sight, look through views
+    /// centred on the sighting, zoomed so that it lies in the middle of the (zoom-scaled)
+    /// recognition range when no nearer viewpoint could be reached. [`VERIFY_HITS`] detections of the class within
+    /// [`CONFIRM_RADIUS`] of the sighting in at most [`VERIFY_LOOKS`] looks confirm it (the
+    /// best of them, measured closer, is the pose reported). With the knowledge's miss rate
+    /// 0.2 a real object passes with 0.90; a look-alike that fires one look in four with 0.16.
+    fn verify<R: Robot + ?Sized>(
+        &mut self,
+        robot: &mut R,
+        label: &str,
+        d: &crate::robot::Detection,
+        run: &mut Run,
+    ) -> Result<Option<crate::robot::Detection>, AgentError> {
+        let Some(class) = self.knowledge.class(label).cloned() else {
+            return Ok(None);
+        };
+        let target = [d.pose.x, d.pose.y];
+        let here = robot.pose();
+        let stand = {
+            let grid = &self.state().grid;
+            let trav = Traversability::new(grid, self.config.robot_radius, false);
+            let [lo, hi] = class.recognition_range;
+            let mut best: Option<([f64; 2], f64)> = None;
+            for r in [0.5 * (lo + hi), hi, 0.5 * (hi + class.detection_range[1])] {
+                for k in 0..VERIFY_BEARINGS {
+                    let a = std::f64::consts::TAU * k as f64 / VERIFY_BEARINGS as f64;
+                    let p = [target[0] + r * a.cos(), target[1] + r * a.sin()];
+                    let (c, rw) = grid.world_to_cell(p[0], p[1]);
+                    if grid.get_i(c, rw) != Cell::Free || !trav.ok(c, rw) {
+                        continue;
+                    }
+                    let slack = self.footprint_slack(label).min(LOS_SLACK);
+                    let t = (r - slack).max(0.0) / r;
+                    let e = [p[0] + t * (target[0] - p[0]), p[1] + t * (target[1] - p[1])];
+                    if !line_of_sight(grid, p, e, false) {
+                        continue;
+                    }
+                    let Some(l) = self.known_path_len([here.x, here.y], p) else {
+                        continue;
+                    };
+                    if best.is_none_or(|(_, b)| l < b) {
+                        best = Some((p, l));
+                    }
+                }
+                if best.is_some() {
+                    break;
+                }
+            }
+            best.map(|(p, _)| p)
+        };
+        if let Some(p) = stand {
+            if let Err(e) = self.go_to(robot, p)? {
+                run.emit(Event::Observed {
+                    what: format!("on the way to verify the {label}: {e}"),
+                });
+            }
+        }
+        let cam = robot.camera();
+        let mut confirmed: Option<crate::robot::Detection> = None;
+        let mut hits = 0;
+        for look in 0..VERIFY_LOOKS {
+            if hits + (VERIFY_LOOKS - look) < VERIFY_HITS {
+                break; // cannot reach the hits needed any more
+            }
+            let pose = robot.pose();
+            let (dx, dy) = (target[0] - pose.x, target[1] - pose.y);
+            let pan = ((dy.atan2(dx) - pose.yaw + std::f64::consts::PI)
+                .rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI)
+                .clamp(cam.pan_deg[0].to_radians(), cam.pan_deg[1].to_radians());
+            let tilt = (d.pose.z - cam.height)
+                .atan2(dx.hypot(dy))
+                .clamp(cam.tilt_deg[0].to_radians(), cam.tilt_deg[1].to_radians());
+            // Zoom in so that the sighting lies in the middle of the recognition range (Sjöö
+            // et al., §3.4: the distance interval scales with the zoom).
+            let mid = 0.5 * (class.recognition_range[0] + class.recognition_range[1]);
+            let zoom = (dx.hypot(dy) / mid.max(1e-3)).clamp(1.0, cam.max_zoom.max(1.0));
+            let seen = robot
+                .process_view_cone(
+                    &ViewCone::new(pose, pan, tilt, zoom),
+                    std::slice::from_ref(&label.to_string()),
+                )
+                .ok()
+                .and_then(|r| {
+                    r.detections
+                        .into_iter()
+                        .filter(|e| {
+                            e.class == label
+                                && e.confidence >= self.config.min_confidence
+                                && e.pose.planar_distance(target[0], target[1]) <= CONFIRM_RADIUS
+                        })
+                        .max_by(|a, b| a.confidence.total_cmp(&b.confidence))
+                });
+            run.emit(Event::DtAction {
+                action: format!(
+                    "VERIFY {label} at ({:.2}, {:.2}) from ({:.2}, {:.2})",
+                    target[0], target[1], pose.x, pose.y
+                ),
+                detected: Some(seen.is_some()),
+            });
+            if let Some(e) = seen {
+                hits += 1;
+                if confirmed
+                    .as_ref()
+                    .is_none_or(|c| c.confidence < e.confidence)
+                {
+                    confirmed = Some(e);
+                }
+                if hits >= VERIFY_HITS {
+                    break;
+                }
+            }
+        }
+        self.state_mut().grid = robot.map_update().grid;
+        Ok(confirmed.filter(|_| hits >= VERIFY_HITS))
+    }
+
     /// Whether a detection lies in the searched location (and, for landmarks, is not one the
     /// agent already knows).
     fn detection_in(&self, d: &crate::robot::Detection, loc: ConeLoc, from: Pose2D) -> bool {
@@ -1990,8 +2272,18 @@ impl Agent {
             }
             ConeLoc::Room(r) => {
                 let here = [from.x, from.y];
+                // A small object may stand anywhere on a piece of furniture, whose footprint
+                // is an obstacle of the known map: the sight line may stop short by the largest
+                // landmark's half diagonal.
+                let slack = self
+                    .knowledge
+                    .object_classes
+                    .iter()
+                    .filter(|c| c.landmark)
+                    .map(|c| self.footprint_slack(&c.name))
+                    .fold(self.footprint_slack(&d.class), f64::max);
                 !known
-                    && self.same_room(here, [d.pose.x, d.pose.y], self.footprint_slack(&d.class))
+                    && self.same_room(here, [d.pose.x, d.pose.y], slack)
                     && self.nearest_room_place(here).and_then(|n| st.wm.room_of(n))
                         == Some(RoomId(r))
             }
@@ -2016,6 +2308,8 @@ const LOOK_CLUSTER: f64 = 0.7;
 const LOOK_MIN_SIGHTINGS: usize = 2;
 /// Known free space farther than this from every place is unvisited, metres.
 const UNVISITED_DIST: f64 = 2.5;
+/// Places (nearest first) an unvisited area may be attached to.
+const ATTACH_CANDIDATES: usize = 4;
 /// Spacing of unvisited-area placeholders, metres.
 const UNVISITED_SPACING: f64 = 3.0;
 /// Share of a room a look-around from one place is taken to cover (the count evidence of
@@ -2029,6 +2323,8 @@ const SMALL_OBJECT_Z: f64 = 0.8;
 const POINT_SPACING: f64 = 0.4;
 /// Spacing of candidate view poses, metres.
 const POSE_SPACING: f64 = 0.7;
+/// Share of the camera's field of view in which view planning counts a point as covered.
+const COVER_FOV_SHARE: f64 = 0.75;
 /// Sight lines stop this short of the target point (furniture footprints are in the grid).
 const LOS_SLACK: f64 = 0.45;
 /// Slack around a landmark's footprint for detections "on" it, metres.
@@ -2039,5 +2335,13 @@ const ASSUMED_PRIOR: f64 = 0.8;
 const ROOM_EXPLORE_STEPS: usize = 3;
 /// How far from where it entered a room the robot looks for the room's placeholders, metres.
 const ROOM_EXPLORE_RADIUS: f64 = 4.0;
+/// A verifying look confirms a sighting when it sees the class this close to it, metres.
+const CONFIRM_RADIUS: f64 = 0.6;
+/// Looks at most, and detections needed, to verify a sighting.
+const VERIFY_LOOKS: usize = 3;
+/// See [`VERIFY_LOOKS`].
+const VERIFY_HITS: usize = 2;
+/// Bearings around a sighting tried as verification viewpoints.
+const VERIFY_BEARINGS: usize = 16;
 /// Guard on the number of DT decisions per session.
 const MAX_DT_STEPS: usize = 60;

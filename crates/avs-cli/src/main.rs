@@ -22,6 +22,8 @@ enum Command {
     Run(cmd::run::Args),
     /// Search a simulated environment for an object class; print the trace and a summary.
     Search(cmd::search::Args),
+    /// Benchmark a search strategy on generated floors (success rate, SPL, path length).
+    Bench(cmd::bench::Args),
     /// Check avs files (environment, knowledge, domain, scenario) and report every problem.
     Validate(cmd::validate::Args),
     /// Print the JSON Schema of an avs file kind.
@@ -50,6 +52,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run(a) => cmd::run::run(a),
         Command::Search(a) => cmd::search::run(a),
+        Command::Bench(a) => cmd::bench::run(a),
         Command::Validate(a) => cmd::validate::run(a),
         Command::Schema(a) => cmd::schema::run(a),
         Command::Segment(a) => cmd::segment::run(a),

@@ -77,12 +77,22 @@ pub fn walk_segment(
 
 /// Whether the straight line from `a` to `b` crosses no occupied cell of `grid` (unknown cells
 /// count as see-through when `unknown_blocks` is false).
+///
+/// Only a blocking cell makes the answer false: an end point on a cell boundary (0.1 m
+/// multiples on a 0.1 m grid) may round into the neighbouring cell, so the walk need not end
+/// exactly in the cell [`OccupancyGrid::world_to_cell`] gives for `b`.
 pub fn line_of_sight(grid: &OccupancyGrid, a: [f64; 2], b: [f64; 2], unknown_blocks: bool) -> bool {
-    walk_segment(grid, a, b, |c, r| match grid.get_i(c, r) {
-        Cell::Occupied => false,
-        Cell::Unknown => !unknown_blocks,
-        Cell::Free => true,
-    })
+    let mut blocked = false;
+    walk_segment(grid, a, b, |c, r| {
+        let see_through = match grid.get_i(c, r) {
+            Cell::Occupied => false,
+            Cell::Unknown => !unknown_blocks,
+            Cell::Free => true,
+        };
+        blocked |= !see_through;
+        see_through
+    });
+    !blocked
 }
 
 /// A planar laser: `beams` rays spread over `fov` radians centred on the heading, up to `range` m.
@@ -170,6 +180,23 @@ mod tests {
         // Row 2 (from the bottom) holds the `##` block at columns 4 and 5.
         assert!(!line_of_sight(&g, [2.5, 2.5], [7.5, 2.5], true));
         assert!(line_of_sight(&g, [2.5, 1.5], [7.5, 1.5], true));
+    }
+
+    #[test]
+    fn free_space_is_see_through_even_when_an_end_lies_on_a_cell_boundary() {
+        // 0.1 m cells: 5.4 and 5.1 are cell boundaries, where rounding may put the walk's last
+        // cell next to the one `world_to_cell` names. Every such segment over free space is
+        // clear.
+        let g = OccupancyGrid::new(120, 80, 0.1, [0.0, 0.0], Cell::Free).unwrap();
+        for (a, b) in [
+            ([5.85, 6.25], [5.4, 5.1]),
+            ([6.55, 6.05], [5.4, 5.1]),
+            ([1.0, 1.0], [3.3, 7.7]),
+            ([10.05, 0.55], [0.3, 4.9]),
+        ] {
+            assert!(line_of_sight(&g, a, b, true), "{a:?} -> {b:?}");
+            assert!(line_of_sight(&g, b, a, true), "{b:?} -> {a:?}");
+        }
     }
 
     #[test]

@@ -403,6 +403,11 @@ fn gbfs(task: &Task, opts: &SearchOptions) -> Result<(Option<Plan>, SearchStats)
     // Relaxed costs 1 + cost + R·(−ln p): the 1 keeps plans short (as lama-first's unit
     // costs), R·(−ln p) ≥ R·(1 − p) makes the relaxed plan an over-estimate of the objective.
     let costs = relaxed.costs_of(task, |o| 1.0 + o.cost + opts.reward * (-o.prob.ln()));
+    // h^max over −ln p is an admissible bound on the rest of a plan's −ln p: a state whose
+    // best reachable success probability is below `min_probability` is pruned (without it, a
+    // task with no plan above the bound is exhausted state by state).
+    let bound_lp = opts.min_probability > 0.0 && !task.is_deterministic();
+    let c_lp = relaxed.costs_of(task, |o| -o.prob.ln());
     let mut ws = Workspace::default();
     let mut reg = Registry::new(task);
     let mut nodes: Vec<Node> = Vec::new();
@@ -484,6 +489,12 @@ fn gbfs(task: &Task, opts: &SearchOptions) -> Result<(Option<Plan>, SearchStats)
                 continue;
             }
             stats.evaluated += 1;
+            if bound_lp {
+                match relaxed.hmax(&t, &c_lp, &mut ws) {
+                    Some(hl) if lp2 - hl >= log_min => {}
+                    _ => continue,
+                }
+            }
             let Some(h) = relaxed.ff(&t, &costs, &mut ws, &mut pref) else {
                 continue;
             };

@@ -57,7 +57,7 @@ fn each_mistake_is_reported_with_field_path_and_fix() {
         (
             "\"category(?r) := ?c\"]",
             "\"category(?r) := purple\"]",
-            "operators[4].effect[0]",
+            "operators[3].effect[1]",
         ),
         (
             "\"?to: place\", \"?r: room\"]",

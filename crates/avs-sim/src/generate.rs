@@ -30,6 +30,20 @@ pub struct GenerateParams {
     /// Make sure at least one object of this class exists (placed where its rates are highest
     /// relative to the others, by a weighted draw), e.g. the target of a benchmark run.
     pub ensure_class: Option<String>,
+    /// Where the ensured object goes.
+    pub placement: Placement,
+}
+
+/// Where [`GenerateParams::ensure_class`]'s object is placed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Placement {
+    /// Where the knowledge file's rates say (a weighted draw; an existing instance is kept).
+    #[default]
+    AsKnowledge,
+    /// Misleading knowledge: every instance the rates produced is removed and one object is
+    /// put in the room where the knowledge file expects the fewest (on one of its landmarks
+    /// with an `on` relation for some class, else on the floor).
+    Unlikely,
 }
 
 /// Errors generating a floor.
@@ -280,7 +294,73 @@ pub fn generate(
             }
         }
     }
-    if let Some(target) = &params.ensure_class {
+    if let (Some(target), Placement::Unlikely) = (&params.ensure_class, params.placement) {
+        let cls = knowledge
+            .class(target)
+            .ok_or_else(|| GenerateError::Invalid(format!("unknown object class `{target}`")))?;
+        objects.retain(|o| &o.class != target);
+        // Expected number of the target per room: its room rate plus the rates on or in each
+        // landmark instance there (Aydemir et al. 2011, eq. 1–2: rates add over locations).
+        let expected = |k: usize, objects: &[Object]| {
+            let c = cat_index(&rooms[k].category);
+            let room = knowledge.object_rates.get(target).map_or(0.0, |r| r[c]);
+            let on: f64 = objects
+                .iter()
+                .filter(|o| o.room == rooms[k].name && o.role == ObjectRole::Landmark)
+                .flat_map(|o| {
+                    knowledge
+                        .landmark_rates
+                        .iter()
+                        .filter(move |r| &r.object == target && r.landmark == o.class)
+                        .map(move |r| r.rates[c])
+                })
+                .sum();
+            room + on
+        };
+        let least = rects
+            .iter()
+            .map(|&(k, _, _)| expected(k, &objects))
+            .fold(f64::INFINITY, f64::min);
+        let unlikely: Vec<(usize, Rect)> = rects
+            .iter()
+            .filter(|&&(k, _, _)| expected(k, &objects) <= least + 1e-12)
+            .map(|&(k, r, _)| (k, r))
+            .collect();
+        let (k, rect) = unlikely[rng.gen_range(0..unlikely.len())];
+        let surfaces: Vec<usize> = objects
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| {
+                o.room == rooms[k].name
+                    && o.role == ObjectRole::Landmark
+                    && knowledge
+                        .landmark_rates
+                        .iter()
+                        .any(|r| r.landmark == o.class && r.relation == Relation::On)
+            })
+            .map(|(i, _)| i)
+            .collect();
+        if surfaces.is_empty() {
+            let fp = place_box(&mut rng, rect, cls.size, &[], 0.3)
+                .ok_or_else(|| GenerateError::Invalid(format!("no room fits a `{target}`")))?;
+            objects.push(standing(
+                cls,
+                fp,
+                &rooms[k].name,
+                new_id(&cls.name),
+                ObjectRole::Target,
+            ));
+        } else {
+            let lm = objects[surfaces[rng.gen_range(0..surfaces.len())]].clone();
+            objects.push(object_on(
+                &mut rng,
+                &lm,
+                cls,
+                Relation::On,
+                new_id(&cls.name),
+            ));
+        }
+    } else if let Some(target) = &params.ensure_class {
         let cls = knowledge
             .class(target)
             .ok_or_else(|| GenerateError::Invalid(format!("unknown object class `{target}`")))?;

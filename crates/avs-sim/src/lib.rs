@@ -32,6 +32,7 @@ pub mod explore;
 pub mod generate;
 pub mod render;
 pub mod robot;
+pub mod score;
 pub mod sensors;
 pub mod sim_robot;
 pub mod world;

@@ -150,6 +150,11 @@ fn objects_and_robot(world: &World, f: &Frame, robot: [f64; 3]) -> Group {
 
 /// The fully known world: walls, ground-truth rooms coloured, doors, objects, the robot's start.
 pub fn render_world(world: &World) -> String {
+    render_world_document(world, &world.env.name).0.to_string()
+}
+
+/// The document of [`render_world`] (titled `title`) and its frame, for pictures drawn over it.
+fn render_world_document(world: &World, title: &str) -> (Document, Frame) {
     let g = &world.truth;
     let f = Frame::new(g);
     let rooms = grid_runs(g, &f, |c, r| match g.get(c, r) {
@@ -189,7 +194,7 @@ pub fn render_world(world: &World) -> String {
         }
     }
     let s = world.env.robot.start;
-    document(g, &world.env.name)
+    let doc = document(g, title)
         .add(rooms)
         .add(doors)
         .add(objects_and_robot(
@@ -197,8 +202,56 @@ pub fn render_world(world: &World) -> String {
             &f,
             [s.x, s.y, s.yaw_deg.to_radians()],
         ))
-        .add(labels)
-        .to_string()
+        .add(labels);
+    (doc, f)
+}
+
+/// A search run over the fully known world: the robot's `trail` (a polyline from its start),
+/// the position the agent reported (a ring: green when within `success_radius` of an object
+/// of `goal`, red otherwise) and the true objects of the goal class (labelled like every
+/// object).
+pub fn render_search(
+    world: &World,
+    goal: &str,
+    trail: &[[f64; 2]],
+    reported: Option<[f64; 3]>,
+    success_radius: f64,
+) -> String {
+    let (mut doc, f) = render_world_document(world, &format!("search for {goal}"));
+    if trail.len() >= 2 {
+        let points: Vec<String> = trail
+            .iter()
+            .map(|p| format!("{:.1},{:.1}", f.x(p[0]), f.y(p[1])))
+            .collect();
+        doc = doc.add(
+            svg::node::element::Polyline::new()
+                .set("points", points.join(" "))
+                .set("fill", "none")
+                .set("stroke", "#1f77b4")
+                .set("stroke-width", 2)
+                .set("stroke-opacity", 0.7)
+                .add(Title::new("robot trail")),
+        );
+    }
+    if let Some(r) = reported {
+        let ok = world
+            .objects_of_class(goal)
+            .any(|o| (o.pose.x - r[0]).hypot(o.pose.y - r[1]) <= success_radius);
+        doc = doc.add(
+            Circle::new()
+                .set("cx", f.x(r[0]))
+                .set("cy", f.y(r[1]))
+                .set("r", 0.3 * SCALE)
+                .set("fill", "none")
+                .set("stroke", if ok { "#2ca02c" } else { "#d62728" })
+                .set("stroke-width", 3)
+                .add(Title::new(format!(
+                    "reported {goal} at ({:.2}, {:.2}, {:.2})",
+                    r[0], r[1], r[2]
+                ))),
+        );
+    }
+    doc.to_string()
 }
 
 /// A partly explored state: the known grid, free cells coloured by the place-map room of their

@@ -36,7 +36,10 @@
 //!   positive of each requested class other than its own that is not a landmark class, with
 //!   probability `ρ · f_d(d) · f_a(b, e)` (the requested class's distance interval), `ρ` =
 //!   [`DetectorConfig::distractor_rate`] (0.25 by default, our judgement: a look-alike in clear
-//!   view is mistaken for the target in one view of four). Its estimated pose is the
+//!   view is mistaken for the target in one view of four); within the requested class's
+//!   `recognition_range` (× zoom), where the image shows the detail a recogniser needs
+//!   (Sjöö et al., §3.3: SIFT matching on zoomed views), with `ρ_r` =
+//!   [`DetectorConfig::recognised_distractor_rate`] (0.05) instead. Its estimated pose is the
 //!   distractor's, with the noise below — it looks just like a real detection.
 //! * **Pose noise.** The estimated position is computed as a real robot would: from an
 //!   estimated range and the bearing in the image. Range error is normal with standard
@@ -55,6 +58,7 @@ use crate::world::{wrap_angle, CameraView, World};
 use avs_agent::{Detection, Point3};
 use avs_format::environment::ObjectRole;
 use avs_format::knowledge::Knowledge;
+use avs_map::grid::OccupancyGrid;
 use rand::Rng;
 use rand_distr::{Distribution, Normal};
 
@@ -65,6 +69,9 @@ pub struct DetectorConfig {
     pub angle_falloff: f64,
     /// ρ: probability that a distractor in clear view fires as a requested class, in [0, 1].
     pub distractor_rate: f64,
+    /// ρ_r: the same within the requested class's recognition range (× zoom), where the image
+    /// shows enough detail to tell a look-alike apart, in [0, 1].
+    pub recognised_distractor_rate: f64,
     /// Multiplies the knowledge's `sensor.false_positive` (2 doubles the false alarms), ≥ 0.
     pub false_positive_scale: f64,
     /// σ₀, metres, ≥ 0.
@@ -80,6 +87,7 @@ impl Default for DetectorConfig {
         Self {
             angle_falloff: 0.5,
             distractor_rate: 0.25,
+            recognised_distractor_rate: 0.05,
             false_positive_scale: 1.0,
             range_noise_base: 0.03,
             range_noise_per_m: 0.05,
@@ -104,6 +112,15 @@ pub enum SensorError {
     /// A requested class is not among the knowledge's `object_classes`.
     #[error("unknown object class `{0}`: expected one of the knowledge file's object_classes")]
     UnknownClass(String),
+    /// A field of the simulated robot's configuration that is not a number is invalid (e.g. a
+    /// door event naming a door the environment does not have).
+    #[error("robot config field `{field}`: {message}")]
+    Robot {
+        /// Dotted path of the field, e.g. `door_events[0].door`.
+        field: String,
+        /// What is wrong and what is expected.
+        message: String,
+    },
     /// The knowledge's sensor model is out of range.
     #[error("knowledge field `sensor.{field}` = {value}: expected a probability in [0, 1)")]
     Knowledge {
@@ -141,6 +158,10 @@ impl DetectorConfig {
         };
         unit("angle_falloff", self.angle_falloff)?;
         unit("distractor_rate", self.distractor_rate)?;
+        unit(
+            "recognised_distractor_rate",
+            self.recognised_distractor_rate,
+        )?;
         nonneg("false_positive_scale", self.false_positive_scale)?;
         nonneg("range_noise_base", self.range_noise_base)?;
         nonneg("range_noise_per_m", self.range_noise_per_m)?;
@@ -233,19 +254,34 @@ impl Detector {
         classes: &[String],
         rng: &mut R,
     ) -> Result<Vec<Detection>, SensorError> {
+        self.detect_through(world, &world.walls, view, zoom, classes, rng)
+    }
+
+    /// [`Detector::detect`] with occlusion by `walls` (a grid of the world's geometry in which
+    /// doors may have opened or closed since the world was built, e.g.
+    /// [`crate::SimRobot::walls`]) instead of [`World::walls`].
+    pub fn detect_through<R: Rng>(
+        &self,
+        world: &World,
+        walls: &OccupancyGrid,
+        view: &CameraView,
+        zoom: f64,
+        classes: &[String],
+        rng: &mut R,
+    ) -> Result<Vec<Detection>, SensorError> {
         let mut ranges = Vec::with_capacity(classes.len());
         for c in classes {
             let oc = self
                 .knowledge
                 .class(c)
                 .ok_or_else(|| SensorError::UnknownClass(c.clone()))?;
-            ranges.push((oc.detection_range, oc.landmark));
+            ranges.push((oc.detection_range, oc.landmark, oc.recognition_range));
         }
-        let seen = world.objects_in_view(view);
+        let seen = world.objects_in_view_through(walls, view);
         let objects = &world.env.objects;
         let fp = (self.knowledge.sensor.false_positive * self.config.false_positive_scale).min(1.0);
         let mut out = Vec::new();
-        for (c, &(range, landmark)) in classes.iter().zip(&ranges) {
+        for (c, &(range, landmark, recognition)) in classes.iter().zip(&ranges) {
             let mut any_in_view = false;
             for v in seen.iter().filter(|v| v.visible) {
                 let o = &objects[v.index];
@@ -253,8 +289,16 @@ impl Detector {
                     any_in_view = true;
                     self.p_detect(range, v.distance, v.bearing, v.elevation, view, zoom)
                 } else if o.role == ObjectRole::Distractor && !landmark {
-                    self.config.distractor_rate
-                        * distance_factor(v.distance, range, zoom)
+                    // Inside the recognition range (scaled by the zoom) the image has the
+                    // detail that tells a look-alike apart (Sjöö et al., §3.3).
+                    let close =
+                        v.distance >= zoom * recognition[0] && v.distance <= zoom * recognition[1];
+                    let rho = if close {
+                        self.config.recognised_distractor_rate
+                    } else {
+                        self.config.distractor_rate
+                    };
+                    rho * distance_factor(v.distance, range, zoom)
                         * angle_factor(
                             v.bearing,
                             v.elevation,

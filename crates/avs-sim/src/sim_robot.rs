@@ -9,6 +9,39 @@
 //! * a failed **view** moves to the view pose as asked but returns no image
 //!   ([`FailureReason::ExecutionFailed`]) — a camera or detector fault.
 //!
+//! **Doors can open or close during a run** ([`SimRobotConfig::door_events`], a list of
+//! [`DoorEvent`]s `{ door, after_m, open }`). The shared [`World`] never changes: the robot keeps
+//! its own copy of the true grids, and an event rewrites the cells of the door's opening there
+//! once the robot's odometry reaches `after_m`. Events are checked when the robot is created, at
+//! every laser scan point while it moves (every [`crate::robot::SCAN_EVERY`] m, so a door can
+//! shut in front of the robot) and at the end of every motion. From then on motion, the laser
+//! and the camera's occlusion all use the changed grid, and so does
+//! [`SimRobot::path_to`](crate::SimRobot::path_to). The laser then overwrites known cells with
+//! what it sees, so the robot's map shows the change once the laser sees the door, and
+//! [`MapUpdate::newly_known`] counts those changed cells as well as newly seen ones. A door
+//! never closes onto the robot: while the robot's disc overlaps the opening the event waits
+//! until it has left. When a door changes while the robot moves, the robot replans from where
+//! it is; if the goal can no longer be reached it stops there and the move reports
+//! [`FailureReason::Unreachable`]. Events are deterministic (they depend on odometry only) and
+//! validated by [`SimAgentRobot::new`]: an unknown door or a negative or non-finite `after_m`
+//! is a [`SensorError::Robot`] naming the field (`door_events[i].door`,
+//! `door_events[i].after_m`).
+//!
+//! ```
+//! use avs_agent::{FailureReason, Pose2D, Robot};
+//! use avs_sim::sim_robot::{DoorEvent, SimAgentRobot, SimRobotConfig};
+//! let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+//! let world = avs_sim::World::load(&root.join("domains/environments/office.yaml")).unwrap();
+//! let knowledge = avs_format::load_yaml(&root.join("knowledge/office.yaml")).unwrap();
+//! let shut = DoorEvent { door: "door_kitchen".into(), after_m: 1.0, open: false };
+//! let config = SimRobotConfig { door_events: vec![shut], ..SimRobotConfig::default() };
+//! let mut robot = SimAgentRobot::new(&world, knowledge, config, 1).unwrap();
+//! // 3 m along the corridor: the kitchen door shuts on the way, and the kitchen is cut off.
+//! robot.move_to(Pose2D::new(4.0, 1.2, 0.0)).unwrap();
+//! let e = robot.move_to(Pose2D::new(6.05, 4.0, 0.0)).unwrap_err();
+//! assert_eq!(e.reason, FailureReason::Unreachable);
+//! ```
+//!
 //! Unreachable goals (no collision-free path in the true world, e.g. behind a closed door)
 //! report [`FailureReason::Unreachable`]; bad requests (non-finite numbers, outside the
 //! camera's limits, unknown classes) report [`FailureReason::InvalidRequest`] and do nothing.
@@ -34,9 +67,10 @@
 //! assert!(robot.process_view_cone(&view, &["unicorn".to_string()]).is_err());
 //! ```
 
+pub use crate::robot::DoorEvent;
 use crate::robot::SimRobot;
 use crate::sensors::{Detector, DetectorConfig, SensorError};
-use crate::world::{CameraView, World};
+use crate::world::{CameraView, SimError, World};
 use avs_agent::{
     ActionFailure, ActionResult, FailureReason, MapUpdate, MoveReport, Pose2D, Robot, ViewCone,
     ViewReport,
@@ -56,12 +90,14 @@ pub struct FailureRates {
 }
 
 /// Configuration of the simulated robot beyond the environment and knowledge files.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct SimRobotConfig {
     /// The detector's parameters.
     pub detector: DetectorConfig,
     /// Random action failure rates.
     pub failures: FailureRates,
+    /// Doors that open or close during the run (see the module docs).
+    pub door_events: Vec<DoorEvent>,
 }
 
 /// How far from the requested view pose the robot may be and still take the view there, m.
@@ -75,6 +111,8 @@ pub struct SimAgentRobot<'w> {
     detector: Detector,
     failures: FailureRates,
     known_cells: usize,
+    relabelled: usize,
+    trail: Vec<[f64; 2]>,
 }
 
 impl<'w> SimAgentRobot<'w> {
@@ -99,14 +137,30 @@ impl<'w> SimAgentRobot<'w> {
             }
         }
         let detector = Detector::new(knowledge, config.detector)?;
-        let sim = SimRobot::new(world, seed);
+        let sim =
+            SimRobot::with_door_events(world, seed, &config.door_events).map_err(|e| match e {
+                SimError::Invalid { field, message } => SensorError::Robot { field, message },
+                other => SensorError::Robot {
+                    field: "door_events".to_string(),
+                    message: other.to_string(),
+                },
+            })?;
+        let trail = vec![[sim.pose[0], sim.pose[1]]];
         Ok(Self {
             world,
             sim,
             detector,
             failures: config.failures,
             known_cells: 0,
+            relabelled: 0,
+            trail,
         })
+    }
+
+    /// Every position the robot passed, from its start, at most 0.25 m apart (for pictures
+    /// and metrics of a run).
+    pub fn trail(&self) -> &[[f64; 2]] {
+        &self.trail
     }
 
     /// The wrapped simulator robot: ground truth, for the simulator's metrics only. An agent
@@ -130,11 +184,19 @@ impl<'w> SimAgentRobot<'w> {
     /// Move to `goal`, failing at the configured rate part of the way.
     fn drive(&mut self, goal: [f64; 2]) -> ActionResult<f64> {
         let start = [self.sim.pose[0], self.sim.pose[1]];
-        let unreachable = || {
+        let unreachable = |at: [f64; 3]| {
+            let stopped = if (at[0] - start[0]).hypot(at[1] - start[1]) > 1e-9 {
+                format!(
+                    " (stopped at ({:.2}, {:.2}): a door closed on the way)",
+                    at[0], at[1]
+                )
+            } else {
+                String::new()
+            };
             ActionFailure::new(
                 FailureReason::Unreachable,
                 format!(
-                    "no collision-free path from ({:.2}, {:.2}) to ({:.2}, {:.2})",
+                    "no collision-free path from ({:.2}, {:.2}) to ({:.2}, {:.2}){stopped}",
                     start[0], start[1], goal[0], goal[1]
                 ),
             )
@@ -142,7 +204,10 @@ impl<'w> SimAgentRobot<'w> {
         let before = self.sim.path_length;
         // The failure draw comes first so the common case plans the path only once.
         if self.failures.motion > 0.0 && self.sim.rng.gen::<f64>() < self.failures.motion {
-            let path = self.sim.path_to(goal).ok_or_else(unreachable)?;
+            let path = self
+                .sim
+                .path_to(goal)
+                .ok_or_else(|| unreachable(self.sim.pose))?;
             let stop = self.sim.rng.gen::<f64>() * path.length;
             let mut acc = 0.0;
             let mut at = path.points[0];
@@ -154,7 +219,8 @@ impl<'w> SimAgentRobot<'w> {
                 acc += d;
                 at = w[1];
             }
-            self.sim.move_to(at);
+            let m = self.sim.move_to(at);
+            self.trail.extend(m.waypoints.iter().skip(1));
             return Err(ActionFailure::new(
                 FailureReason::ExecutionFailed,
                 format!(
@@ -166,8 +232,10 @@ impl<'w> SimAgentRobot<'w> {
                 ),
             ));
         }
-        if !self.sim.move_to(goal).reached {
-            return Err(unreachable());
+        let m = self.sim.move_to(goal);
+        self.trail.extend(m.waypoints.iter().skip(1));
+        if !m.reached {
+            return Err(unreachable(self.sim.pose));
         }
         Ok(self.sim.path_length - before)
     }
@@ -205,8 +273,13 @@ impl Robot for SimAgentRobot<'_> {
     fn map_update(&mut self) -> MapUpdate {
         let grid = self.sim.known.clone();
         let known = grid.cells().len() - grid.count(Cell::Unknown);
-        let newly_known = known.saturating_sub(self.known_cells);
+        // Cells seen for the first time plus known cells seen changed (a door that closed or
+        // opened), so an agent that skips unchanged maps notices a door event.
+        let relabelled = self.sim.cells_relabelled();
+        let newly_known =
+            known.saturating_sub(self.known_cells) + relabelled.saturating_sub(self.relabelled);
         self.known_cells = known;
+        self.relabelled = relabelled;
         MapUpdate { grid, newly_known }
     }
 
@@ -247,9 +320,10 @@ impl Robot for SimAgentRobot<'_> {
             hfov: camera.hfov_deg.to_radians() / cone.zoom,
             vfov: camera.vfov_deg.to_radians() / cone.zoom,
         };
+        let (walls, rng) = self.sim.walls_and_rng();
         let detections = self
             .detector
-            .detect(self.world, &view, cone.zoom, classes, &mut self.sim.rng)
+            .detect_through(self.world, walls, &view, cone.zoom, classes, rng)
             .map_err(|e| ActionFailure::new(FailureReason::InvalidRequest, e.to_string()))?;
         Ok(ViewReport {
             pose,

@@ -50,12 +50,16 @@ pub struct World {
     /// Ground-truth room index of every cell (`None` for walls and unlabelled space), as
     /// [`OccupancyGrid::index`]; rooms are `env.rooms` in order.
     pub room_of_cell: Vec<Option<usize>>,
+    /// Per door (`env.doors` order), the cells of its opening that are free in the map without
+    /// doors: the cells a closed door occupies.
+    door_openings: Vec<Vec<(usize, usize)>>,
 }
 
 impl World {
     /// Build the world from an environment; `base_dir` is the environment file's folder.
     pub fn new(env: Environment, base_dir: &Path) -> Result<Self, SimError> {
         let mut walls = load_grid(&env, base_dir)?;
+        let mut door_openings = Vec::with_capacity(env.doors.len());
         for (i, d) in env.doors.iter().enumerate() {
             if !(d.width.is_finite() && d.width > 0.0) {
                 return Err(SimError::Invalid {
@@ -63,23 +67,45 @@ impl World {
                     message: format!("got {}; expected a positive width in metres", d.width),
                 });
             }
+            let mut cells = door_cells(&walls, d);
+            cells.retain(|&(col, row)| walls.get(col, row) == Cell::Free);
+            door_openings.push(cells);
+        }
+        for (d, cells) in env.doors.iter().zip(&door_openings) {
             if !d.open {
-                rasterise_door(&mut walls, d, Cell::Occupied);
+                for &(col, row) in cells {
+                    walls.set(col, row, Cell::Occupied);
+                }
             }
         }
-        let mut truth = walls.clone();
-        for o in &env.objects {
-            if o.role == ObjectRole::Landmark && o.pose.z <= 0.0 {
-                rasterise_box(&mut truth, o, Cell::Occupied);
-            }
-        }
+        let truth = furnished(&walls, &env);
         let room_of_cell = label_rooms(&walls, &env)?;
         Ok(Self {
             env,
             walls,
             truth,
             room_of_cell,
+            door_openings,
         })
+    }
+
+    /// The cells of door `index`'s opening (`env.doors` order) that are free in the map without
+    /// doors: the cells the door occupies when closed (see [`door_cells`]). Empty for an index
+    /// out of range.
+    pub fn door_opening(&self, index: usize) -> &[(usize, usize)] {
+        self.door_openings.get(index).map_or(&[], Vec::as_slice)
+    }
+
+    /// The index in `env.doors` of the door named `name`.
+    pub fn door_index(&self, name: &str) -> Option<usize> {
+        self.env.doors.iter().position(|d| d.name == name)
+    }
+
+    /// Walls and closed doors plus furniture footprints (floor-standing landmarks): the grid
+    /// that blocks motion and the laser, built from a walls grid of this world's geometry
+    /// (e.g. [`World::walls`] with some doors opened or closed).
+    pub fn furnish(&self, walls: &OccupancyGrid) -> OccupancyGrid {
+        furnished(walls, &self.env)
     }
 
     /// Load an environment file and build its world.
@@ -120,6 +146,16 @@ impl World {
     /// `yaw` (radians, world frame) and `tilt` (radians, negative down) with horizontal and
     /// vertical fields of view `hfov`, `vfov` (radians, already divided by the zoom).
     pub fn objects_in_view(&self, view: &CameraView) -> Vec<ViewedObject> {
+        self.objects_in_view_through(&self.walls, view)
+    }
+
+    /// [`World::objects_in_view`] with line of sight checked on `walls` instead of
+    /// [`World::walls`] (a grid of the same geometry in which doors may have opened or closed).
+    pub fn objects_in_view_through(
+        &self,
+        walls: &OccupancyGrid,
+        view: &CameraView,
+    ) -> Vec<ViewedObject> {
         let mut out = Vec::new();
         for (i, o) in self.env.objects.iter().enumerate() {
             let top = o.pose.z + o.size[2] / 2.0;
@@ -137,7 +173,7 @@ impl World {
             }
             // Occlusion by walls and closed doors; the object's own cell is not an occluder.
             let visible = line_of_sight(
-                &self.walls,
+                walls,
                 [view.eye[0], view.eye[1]],
                 [o.pose.x, o.pose.y],
                 false,
@@ -152,6 +188,17 @@ impl World {
         }
         out
     }
+}
+
+/// `walls` with the footprints of the floor-standing landmarks of `env` marked occupied.
+fn furnished(walls: &OccupancyGrid, env: &Environment) -> OccupancyGrid {
+    let mut truth = walls.clone();
+    for o in &env.objects {
+        if o.role == ObjectRole::Landmark && o.pose.z <= 0.0 {
+            rasterise_box(&mut truth, o, Cell::Occupied);
+        }
+    }
+    truth
 }
 
 /// A camera's viewing geometry in the world frame.

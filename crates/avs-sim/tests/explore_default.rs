@@ -112,6 +112,7 @@ fn exploring_generated_floors_never_merges_rooms_and_finds_most() {
                 seed,
                 rooms: 4,
                 ensure_class: None,
+                placement: Default::default(),
             },
         )
         .unwrap();

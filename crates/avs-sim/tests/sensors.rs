@@ -232,12 +232,22 @@ fn a_distractor_fires_as_the_searched_class_at_the_configured_rate() {
     };
     let det = Detector::new(knowledge_without_false_positives(), cfg).unwrap();
     let mug = top(&w, "mug1");
-    let view = aimed(&w, [7.0, 5.9, 1.2], mug);
+    // 2.6 m away: inside the cereal box's detection range [0.5, 4] m, beyond its recognition
+    // range [0.5, 2] m, so the look-alike fires at ρ.
+    let view = aimed(&w, [7.0, 4.8, 1.2], mug);
     let (rate, _) = rate_near(&det, &w, &view, "cerealbox", mug, 0.5, 5);
     let p = cfg.distractor_rate;
     assert!(
         (rate - p).abs() < four_sigma(p, TRIALS),
         "rate {rate}, expected {p}"
+    );
+    // 1.5 m away, inside the recognition range, the recogniser tells it apart: ρ_r.
+    let close = aimed(&w, [7.0, 5.9, 1.2], mug);
+    let (rate, _) = rate_near(&det, &w, &close, "cerealbox", mug, 0.5, 7);
+    let p = cfg.recognised_distractor_rate;
+    assert!(
+        (rate - p).abs() < four_sigma(p, TRIALS),
+        "rate {rate} within the recognition range, expected {p}"
     );
     // A mug does not look like a table: landmark classes are not confused with distractors.
     let (table_rate, _) = rate_near(&det, &w, &view, "table", mug, 0.5, 6);

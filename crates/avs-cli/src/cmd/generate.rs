@@ -40,6 +40,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
             seed: a.seed,
             rooms: a.rooms,
             ensure_class: a.ensure,
+            placement: Default::default(),
         },
     )?;
     let text = format!(

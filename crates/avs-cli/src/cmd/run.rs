@@ -3,7 +3,7 @@
 //! printing the plan trace as it happens and a summary.
 
 use super::defaults::{shipped, KNOWLEDGE};
-use super::search::{print_summary, run_search};
+use super::search::{print_summary, run_search, Request};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -18,19 +18,26 @@ pub struct Args {
     /// Write the plan trace as JSON lines to this file.
     #[arg(long)]
     pub trace_json: Option<PathBuf>,
+    /// Draw the run (world, robot trail, reported position) as SVG to this file.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
 }
 
 /// Run the subcommand.
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {
-    let s = run_search(
-        &shipped(ENVIRONMENT),
-        &shipped(KNOWLEDGE),
-        &shipped(DOMAIN),
-        "cerealbox",
-        1,
-        a.trace_json.as_deref(),
-        false,
-    )?;
+    let (env, knowledge, domain) = (shipped(ENVIRONMENT), shipped(KNOWLEDGE), shipped(DOMAIN));
+    let s = run_search(&Request {
+        env: &env,
+        knowledge: &knowledge,
+        domain: &domain,
+        goal: "cerealbox",
+        seed: 1,
+        strategy: Default::default(),
+        faults: Default::default(),
+        json_file: a.trace_json.as_deref(),
+        svg: a.svg.as_deref(),
+        quiet: false,
+    })?;
     print_summary(&s);
     Ok(if s.found {
         ExitCode::SUCCESS

@@ -1,4 +1,6 @@
-//! `avs search --env E --knowledge K --domain D --goal CLASS [--seed N] [--trace-json F] [--json]`
+//! `avs search --env E --knowledge K --domain D --goal CLASS [--seed N] [--trace-json F]
+//! [--svg F] [--json] [--strategy planner|uninformed|frontier] [--failure-rate P]
+//! [--fp-scale X] [--close-door NAME@METRES]...`
 //!
 //! One object search by the agent in the simulated environment, with the plan trace printed as
 //! it happens and a summary. The agent never sees ground truth; this command reads it only to
@@ -6,10 +8,12 @@
 
 use anyhow::{anyhow, Context};
 use avs_agent::agent::median;
+use avs_agent::agent::Strategy;
 use avs_agent::{Agent, AgentConfig, Event, Goal, SearchReport};
 use avs_format::knowledge::Knowledge;
-use avs_map::nav::{shortest_path, Traversability};
 use avs_plan::domain::Domain;
+use avs_sim::robot::DoorEvent;
+use avs_sim::score::score;
 use avs_sim::sim_robot::{SimAgentRobot, SimRobotConfig};
 use avs_sim::World;
 use serde::Serialize;
@@ -38,15 +42,75 @@ pub struct Args {
     /// Write the plan trace as JSON lines to this file, flushed as events happen.
     #[arg(long)]
     pub trace_json: Option<PathBuf>,
+    /// Draw the run (world, robot trail, reported position) as SVG to this file.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
     /// Print only the summary, as JSON.
     #[arg(long)]
     pub json: bool,
+    /// planner | uninformed | frontier.
+    #[arg(long, default_value = "planner")]
+    pub strategy: Strategy,
+    /// Fault injection: probability that a motion or a view fails.
+    #[arg(long, default_value_t = 0.0)]
+    pub failure_rate: f64,
+    /// Fault injection: multiply the knowledge's false-positive rate (2 doubles false alarms).
+    #[arg(long, default_value_t = 1.0)]
+    pub fp_scale: f64,
+    /// Fault injection: close door NAME once the robot has driven METRES (repeatable).
+    #[arg(long, value_name = "NAME@METRES", value_parser = parse_door_event)]
+    pub close_door: Vec<DoorEvent>,
+}
+
+/// `NAME@METRES` → a door-closing event.
+fn parse_door_event(s: &str) -> Result<DoorEvent, String> {
+    let (name, m) = s
+        .rsplit_once('@')
+        .ok_or_else(|| format!("`{s}`: expected NAME@METRES, e.g. door_kitchen@12.5"))?;
+    let after_m: f64 = m
+        .parse()
+        .map_err(|_| format!("`{s}`: `{m}` is not a number of metres"))?;
+    if name.is_empty() || !after_m.is_finite() || after_m < 0.0 {
+        return Err(format!(
+            "`{s}`: expected a door name and a finite, non-negative number of metres"
+        ));
+    }
+    Ok(DoorEvent {
+        door: name.to_string(),
+        after_m,
+        open: false,
+    })
+}
+
+/// The simulated robot's settings of a search: fault injection.
+#[derive(Debug, Clone, Default)]
+pub struct Faults {
+    /// Probability that a motion or a view fails.
+    pub failure_rate: f64,
+    /// Multiplier of the false-positive rate.
+    pub fp_scale: Option<f64>,
+    /// Doors closing (or opening) during the run.
+    pub door_events: Vec<DoorEvent>,
+}
+
+impl Faults {
+    fn robot_config(&self) -> SimRobotConfig {
+        let mut c = SimRobotConfig::default();
+        c.failures.motion = self.failure_rate;
+        c.failures.view = self.failure_rate;
+        if let Some(x) = self.fp_scale {
+            c.detector.false_positive_scale = x;
+        }
+        c.door_events = self.door_events.clone();
+        c
+    }
 }
 
 /// The figures of one search.
 #[derive(Debug, Serialize)]
 pub struct Summary {
-    /// Whether the agent reported an object of the goal class within 1 m of a true one.
+    /// Whether the agent reported an object of the goal class within 1 m of a true one
+    /// ([`avs_sim::score::SUCCESS_RADIUS`]).
     pub found: bool,
     /// The reported position `[x, y, z]`, if any.
     pub reported_pose: Option<[f64; 3]>,
@@ -70,92 +134,125 @@ pub struct Summary {
     pub reason: String,
 }
 
-/// A reported position counts as the object when it is within this distance of it, m.
-const SUCCESS_RADIUS: f64 = 1.0;
-
-/// Run one search; `on_event` sees every trace event as it happens.
-pub fn search(
+/// Load the environment, knowledge and domain files of a search.
+pub fn load_inputs(
     env: &Path,
     knowledge: &Path,
     domain: &Path,
-    goal: &str,
-    seed: u64,
-    on_event: &mut dyn FnMut(&Event),
-) -> anyhow::Result<(Summary, SearchReport)> {
+) -> anyhow::Result<(World, Knowledge, Domain)> {
     let world =
         World::load(env).with_context(|| format!("loading environment {}", env.display()))?;
     let k: Knowledge = avs_format::load_yaml(knowledge)
         .with_context(|| format!("loading knowledge {}", knowledge.display()))?;
-    let d = Domain::load(domain).map_err(|diags| {
+    let d = load_domain(domain)?;
+    Ok((world, k, d))
+}
+
+/// Load and check a planning domain file.
+pub fn load_domain(domain: &Path) -> anyhow::Result<Domain> {
+    Domain::load(domain).map_err(|diags| {
         let msgs: Vec<String> = diags.iter().map(|d| d.to_string()).collect();
         anyhow!(
             "domain {} is invalid:\n{}",
             domain.display(),
             msgs.join("\n")
         )
-    })?;
-    let mut robot = SimAgentRobot::new(&world, k.clone(), SimRobotConfig::default(), seed)
-        .with_context(|| format!("simulated robot for {}", env.display()))?;
-    let mut agent = Agent::new(d, k, AgentConfig::default())?;
+    })
+}
+
+/// What one search gave: the scored summary, the agent's report, and the robot's trail.
+pub struct SearchOutcome {
+    /// The figures.
+    pub summary: Summary,
+    /// The agent's report (trace, metrics).
+    pub report: SearchReport,
+    /// Every position the robot passed.
+    pub trail: Vec<[f64; 2]>,
+}
+
+/// One search of `goal` in `world` by an agent with `config`, the robot seeded by `seed` with
+/// `faults`; `on_event` sees every trace event as it happens. The result is scored against the
+/// truth.
+#[allow(clippy::too_many_arguments)]
+pub fn search_world(
+    world: &World,
+    knowledge: &Knowledge,
+    domain: &Domain,
+    goal: &str,
+    seed: u64,
+    config: AgentConfig,
+    faults: &Faults,
+    on_event: &mut dyn FnMut(&Event),
+) -> anyhow::Result<SearchOutcome> {
+    let mut robot = SimAgentRobot::new(world, knowledge.clone(), faults.robot_config(), seed)
+        .context("simulated robot")?;
+    let mut agent = Agent::new(domain.clone(), knowledge.clone(), config)?;
     let mut sink = |e: &Event| on_event(e);
     let report = agent.search_with(&mut robot, Goal::find(goal), &mut sink)?;
     // Scoring against ground truth (the agent never saw it).
-    let targets: Vec<[f64; 2]> = world
-        .env
-        .objects
-        .iter()
-        .filter(|o| o.class == goal)
-        .map(|o| [o.pose.x, o.pose.y])
-        .collect();
-    let start = &world.env.robot.start;
-    let trav = Traversability::new(&world.truth, world.env.robot.radius, false);
-    let shortest = targets
-        .iter()
-        .filter_map(|t| shortest_path(&trav, [start.x, start.y], *t, 1.5).map(|p| p.length))
-        .min_by(f64::total_cmp);
     let reported = report
         .found
         .as_ref()
         .map(|f| [f.pose.x, f.pose.y, f.pose.z]);
-    let error = reported.and_then(|r| {
-        targets
-            .iter()
-            .map(|t| (r[0] - t[0]).hypot(r[1] - t[1]))
-            .min_by(f64::total_cmp)
-    });
-    let found = error.is_some_and(|e| e <= SUCCESS_RADIUS);
     let path = report.metrics.path_length;
-    let spl = match (found, shortest) {
-        (true, Some(l)) if l.max(path) > 0.0 => l / l.max(path),
-        (true, Some(_)) => 1.0,
-        _ => 0.0,
-    };
+    let sc = score(world, goal, reported, path);
     let summary = Summary {
-        found,
+        found: sc.found,
         reported_pose: reported,
-        error,
+        error: sc.error,
         path_length: path,
-        shortest_path_length: shortest,
-        spl,
+        shortest_path_length: sc.shortest_path_length,
+        spl: sc.spl,
         plans: report.metrics.plans,
         dt_sessions: report.metrics.dt_sessions,
         plan_ms_median: median(&report.metrics.plan_ms),
         dt_ms_median: median(&report.metrics.dt_ms),
         reason: report.reason.clone(),
     };
-    Ok((summary, report))
+    Ok(SearchOutcome {
+        summary,
+        report,
+        trail: robot.trail().to_vec(),
+    })
 }
 
-/// Print the trace (text, unless `quiet`) and write JSON lines to `json_file`, flushing each.
-pub fn run_search(
-    env: &Path,
-    knowledge: &Path,
-    domain: &Path,
-    goal: &str,
-    seed: u64,
-    json_file: Option<&Path>,
-    quiet: bool,
-) -> anyhow::Result<Summary> {
+/// What to search, and how to report it.
+pub struct Request<'a> {
+    /// Environment file.
+    pub env: &'a Path,
+    /// Knowledge file.
+    pub knowledge: &'a Path,
+    /// Planning domain file.
+    pub domain: &'a Path,
+    /// Object class.
+    pub goal: &'a str,
+    /// Robot seed.
+    pub seed: u64,
+    /// Strategy.
+    pub strategy: Strategy,
+    /// Fault injection.
+    pub faults: Faults,
+    /// JSON-lines trace file.
+    pub json_file: Option<&'a Path>,
+    /// SVG picture of the run.
+    pub svg: Option<&'a Path>,
+    /// Print no trace.
+    pub quiet: bool,
+}
+
+/// Print the trace (text, unless `quiet`), write JSON lines to `json_file` (flushing each) and
+/// the picture to `svg`.
+pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
+    let Request {
+        env,
+        knowledge,
+        domain,
+        goal,
+        seed,
+        json_file,
+        quiet,
+        ..
+    } = *r;
     let mut file = match json_file {
         Some(p) => Some(std::io::BufWriter::new(
             std::fs::File::create(p).with_context(|| format!("creating {}", p.display()))?,
@@ -177,24 +274,57 @@ pub fn run_search(
             }
         }
     };
-    let (summary, _) = search(env, knowledge, domain, goal, seed, &mut on_event)?;
+    let (world, k, d) = load_inputs(env, knowledge, domain)?;
+    let config = AgentConfig {
+        strategy: r.strategy,
+        ..AgentConfig::default()
+    };
+    let out = search_world(&world, &k, &d, goal, seed, config, &r.faults, &mut on_event)
+        .with_context(|| format!("searching {}", env.display()))?;
     if let Some(e) = write_err {
         return Err(anyhow!("writing the trace: {e}"));
     }
-    Ok(summary)
+    if let Some(p) = r.svg {
+        let pic = avs_sim::render::render_search(
+            &world,
+            goal,
+            &out.trail,
+            out.summary.reported_pose,
+            avs_sim::score::SUCCESS_RADIUS,
+        );
+        std::fs::write(p, pic).with_context(|| format!("writing {}", p.display()))?;
+    }
+    Ok(out.summary)
 }
 
 /// Run the subcommand.
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {
-    let s = run_search(
-        &a.env,
-        &a.knowledge,
-        &a.domain,
-        &a.goal,
-        a.seed,
-        a.trace_json.as_deref(),
-        a.json,
-    )?;
+    anyhow::ensure!(
+        (0.0..=1.0).contains(&a.failure_rate),
+        "--failure-rate {}: expected a probability in [0, 1]",
+        a.failure_rate
+    );
+    anyhow::ensure!(
+        a.fp_scale.is_finite() && a.fp_scale >= 0.0,
+        "--fp-scale {}: expected a finite number ≥ 0",
+        a.fp_scale
+    );
+    let s = run_search(&Request {
+        env: &a.env,
+        knowledge: &a.knowledge,
+        domain: &a.domain,
+        goal: &a.goal,
+        seed: a.seed,
+        strategy: a.strategy,
+        faults: Faults {
+            failure_rate: a.failure_rate,
+            fp_scale: Some(a.fp_scale),
+            door_events: a.close_door.clone(),
+        },
+        json_file: a.trace_json.as_deref(),
+        svg: a.svg.as_deref(),
+        quiet: a.json,
+    })?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&s)?);
     } else {

@@ -1,0 +1,75 @@
+//! Scoring a search against ground truth (the agent never sees it; the scorer does).
+//!
+//! A search succeeds when the agent reported an object of the goal class within
+//! [`SUCCESS_RADIUS`] of a true one. SPL (success weighted by path length, Anderson et al.
+//! 2018, as the issue defines it) is `success × ℓ / max(p, ℓ)` with `ℓ` the shortest
+//! collision-free path from the start to the nearest true object of the class and `p` the
+//! distance the robot drove.
+//!
+//! ```
+//! use avs_sim::score::{score, shortest_path_to_class};
+//! let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+//! let world = avs_sim::World::load(&root.join("domains/environments/office.yaml")).unwrap();
+//! let l = shortest_path_to_class(&world, "cerealbox").unwrap();
+//! // Reporting the true position after driving twice the shortest path scores 0.5.
+//! let truth = world.objects_of_class("cerealbox").next().unwrap().pose.clone();
+//! let s = score(&world, "cerealbox", Some([truth.x, truth.y, truth.z]), 2.0 * l);
+//! assert!(s.found && (s.spl - 0.5).abs() < 1e-9);
+//! ```
+
+use crate::world::World;
+use avs_map::nav::{shortest_path, Traversability};
+use serde::Serialize;
+
+/// A reported position counts as the object when it is within this planar distance, metres.
+pub const SUCCESS_RADIUS: f64 = 1.0;
+
+/// How a search did against the truth.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Score {
+    /// Whether the report lies within [`SUCCESS_RADIUS`] of a true object of the class.
+    pub found: bool,
+    /// Planar distance from the report to the nearest true object of the class, metres.
+    pub error: Option<f64>,
+    /// Shortest collision-free path from the start to the nearest true object, metres
+    /// (`None` when no object of the class is reachable).
+    pub shortest_path_length: Option<f64>,
+    /// Success weighted by path length.
+    pub spl: f64,
+}
+
+/// Length of the shortest collision-free path (robot radius, true map, doors as in the
+/// environment file) from the start pose to the nearest object of `class`, metres.
+pub fn shortest_path_to_class(world: &World, class: &str) -> Option<f64> {
+    let start = &world.env.robot.start;
+    let trav = Traversability::new(&world.truth, world.env.robot.radius, false);
+    world
+        .objects_of_class(class)
+        .filter_map(|o| {
+            shortest_path(&trav, [start.x, start.y], [o.pose.x, o.pose.y], 1.5).map(|p| p.length)
+        })
+        .min_by(f64::total_cmp)
+}
+
+/// Score a report (`None` when the agent gave up) after driving `path_length` metres.
+pub fn score(world: &World, class: &str, reported: Option<[f64; 3]>, path_length: f64) -> Score {
+    let shortest = shortest_path_to_class(world, class);
+    let error = reported.and_then(|r| {
+        world
+            .objects_of_class(class)
+            .map(|t| (r[0] - t.pose.x).hypot(r[1] - t.pose.y))
+            .min_by(f64::total_cmp)
+    });
+    let found = error.is_some_and(|e| e <= SUCCESS_RADIUS);
+    let spl = match (found, shortest) {
+        (true, Some(l)) if l.max(path_length) > 0.0 => l / l.max(path_length),
+        (true, _) => 1.0,
+        _ => 0.0,
+    };
+    Score {
+        found,
+        error,
+        shortest_path_length: shortest,
+        spl,
+    }
+}
