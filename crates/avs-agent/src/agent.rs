@@ -139,8 +139,8 @@ impl Default for AgentConfig {
                 o.offline.init_iterations = 40;
                 o
             },
-            max_plans: 40,
-            max_actions: 150,
+            max_plans: 60,
+            max_actions: 250,
             min_confidence: 0.5,
             robot_radius: 0.25,
             process_cost: 1.0,
@@ -363,6 +363,9 @@ struct State {
     extra_ids: Vec<u64>,
     /// The plan place the robot last moved to, with its position.
     last_target: Option<(String, [f64; 2])>,
+    /// Sightings a closer look did not confirm: (class, position). Later sightings of the
+    /// class there are the same look-alike and are ignored.
+    rejected: Vec<(String, [f64; 2])>,
     /// The robot's position as last seen.
     at: [f64; 2],
 }
@@ -510,6 +513,7 @@ impl Agent {
                 phs: Vec::new(),
                 extra_ids: Vec::new(),
                 last_target: None,
+                rejected: Vec::new(),
                 at: [0.0, 0.0],
             });
             // Turn in place so the laser sees all around, then drop the first place.
@@ -2250,17 +2254,24 @@ impl Agent {
             }
         }
         self.state_mut().grid = robot.map_update().grid;
-        Ok(confirmed.filter(|_| hits >= VERIFY_HITS))
+        let confirmed = confirmed.filter(|_| hits >= VERIFY_HITS);
+        if confirmed.is_none() {
+            self.state_mut().rejected.push((label.to_string(), target));
+        }
+        Ok(confirmed)
     }
 
     /// Whether a detection lies in the searched location (and, for landmarks, is not one the
     /// agent already knows).
     fn detection_in(&self, d: &crate::robot::Detection, loc: ConeLoc, from: Pose2D) -> bool {
         let st = self.state();
-        let known = st
-            .objects
-            .iter()
-            .any(|o| o.class == d.class && o.pos.planar_distance(d.pose.x, d.pose.y) < 0.8);
+        let known =
+            st.objects
+                .iter()
+                .any(|o| o.class == d.class && o.pos.planar_distance(d.pose.x, d.pose.y) < 0.8)
+                || st.rejected.iter().any(|(c, p)| {
+                    *c == d.class && d.pose.planar_distance(p[0], p[1]) < CONFIRM_RADIUS
+                });
         match loc {
             ConeLoc::On(k) => {
                 let o = &st.objects[k];

@@ -72,9 +72,21 @@
 //! * **SEARCHFOROBJECT** runs a closed-loop view-cone POMDP session (`002` §II-A.2) over the
 //!   cones of CREATEVIEWCONES (greedy coverage, Sjöö et al. `004` §2.1, with line of sight on
 //!   the known map stopping short of furniture footprints). The prior P(ObjectAt L) is spread
-//!   uniformly over the location's points; for an object the plan assumes, it is floored at 0.5
+//!   uniformly over the location's points; for an object the plan assumes, it is floored at 0.8
 //!   (the plan runs the session because it assumes the object there). A failed search thins the
-//!   location's rate by q = (1 − FN) × covered share.
+//!   location's rate by q = (1 − FN) × covered share. View planning counts a point as covered
+//!   only in the central 75% of the image (towards the border the detector's confidence falls
+//!   below `min_confidence`). The offline bounds of a session get a small budget (40 initial
+//!   iterations, 10 HSVI trials; the online RTBSS look-ahead refines them): over 24 cones the
+//!   product POMDP has 625 states and the solver's defaults took seconds per session.
+//! * **Verification** (Masuzawa & Miura `001` §4, reduced to one viewpoint). A sighting the DT
+//!   session declares found, and a baseline's first sighting, is looked at again from the
+//!   reachable point nearest the robot in the middle of the class's recognition range, through
+//!   views centred on it and zoomed so that it lies mid-recognition-range; two detections
+//!   within 0.6 m in at most three looks confirm it. A real object passes with 0.90 (miss rate
+//!   0.2); the simulated look-alike (distractor) fires at 0.25 outside and 0.05 inside the
+//!   recognition range, so it passes with under 0.01. A sighting not confirmed ends the session
+//!   as a false alarm and the agent replans without thinning the location.
 //! * **Monitoring** uses the continual planner's monitor after every physical step; a move onto
 //!   a placeholder and the EXPLORE-PLACEHOLDER that follows run together (the frontier may vanish
 //!   on arrival). After every DT session the agent replans (the virtual object was matched to the
@@ -82,21 +94,34 @@
 //! * **Unvisited areas.** Rooms exist only where the robot has been (rooms are components of
 //!   the place graph), so a room seen through its door but not entered would be invisible to
 //!   the planner. Known free space more than 2.5 m from every place gets a placeholder (one per
-//!   3 m), attached to the nearest place and set in the conceptual map with the unvisited area
-//!   around it as its open area. Frontier placeholders without a short path on the known map
-//!   from their place are dropped as artefacts.
-//! * **Looking around** counts a landmark only when at least two overlapping views agree within
-//!   0.7 m (the simulated detector's false alarms fall anywhere in a view; a real object is seen
-//!   again by the neighbouring view).
+//!   3 m; a place counts only if it sees the point, not through a wall), attached to whichever
+//!   of the four nearest places has the shortest known path to it, and set in the conceptual map
+//!   with the unvisited area around it as its open area. Frontier placeholders without a short
+//!   path on the known map from their place are dropped as artefacts.
+//! * **Looking around** pans half a field of view at a time (every direction is in two views)
+//!   and counts a landmark only when two sightings agree within 0.7 m; a landmark seen once is
+//!   looked at again through a view centred on it (the simulated detector's false alarms fall
+//!   anywhere in a view; a real object shows again with probability 1 − FN).
 //! * **Motion** follows the agent's own shortest path on the known map, in 0.5 m waypoints, so the
 //!   place map sees every door crossing; a waypoint that costs more than three times its straight
 //!   length (plus 1 m) means the known map was wrong, and the robot stops there (a failure).
-//! * **Planner mode.** The agent plans in the planner's fast mode (greedy best-first search with
-//!   h^FF): a few milliseconds per plan on the office instead of ~150 ms for A* with h^max, at the
-//!   price of plans that may cost more than the optimum (the continual loop corrects them).
-//!   Assumptions a plan was made with although already below the monitor's bound do not trigger
-//!   a replan later (the planner would return the same plan).
-//! * **Budgets:** at most 40 plans and 150 actions per goal, then it gives up and says so.
+//! * **Planner mode.** The agent plans optimally (A* with h^max on cost and on −ln p, the
+//!   planner's exact objective) with a budget of 200 000 expansions, and plans again in fast mode
+//!   (greedy best-first with h^FF) when the budget runs out. The greedy mode alone made worse
+//!   choices (searching the corridor before going to a likely kitchen). Assumptions a plan was
+//!   made with although already below the monitor's bound do not trigger a replan later (the
+//!   planner would return the same plan).
+//! * **Giving up.** The threshold on a plan's success probability is 0.002, not the paper's
+//!   0.01: on floors with several unexplored rooms a plan into any one of them succeeds with
+//!   about 0.01 (P(leads to a kitchen) × P(counter) × P(object on it) × detection²), so 0.01
+//!   gave up with most of the floor unexplored.
+//! * **Budgets:** at most 60 plans and 250 actions per goal, then it gives up and says so.
+//! * **Look-alikes.** A sighting that verification rejected is remembered (class, position);
+//!   later sightings of that class within 0.6 m of it are ignored.
+//! * **Baselines** ([`agent::Strategy`]): `uninformed` covers the nearest room not yet covered
+//!   by view planning (Sjöö et al. `004`), `frontier` goes to the nearest frontier and covers
+//!   each room it finds itself in; both use the same robot, place map, view planning and
+//!   verification and no prior knowledge (module `agent::baseline`).
 //! * **Determinism.** Trace events carry no wall-clock times; with the planner's default expansion
 //!   budgets and a seeded robot, the same seed gives byte-identical JSON lines.
 #![warn(missing_docs)]

@@ -14,7 +14,7 @@
 //! Choices where the sources leave room: a detection counts only when the planner's own
 //! verification step confirms it (a closer look centred on it, `Agent::verify`), so that all
 //! three strategies report on the same evidence; a room counts as
-//! covered when [`COVERED_SHARE`] of its points were in processed views (or no view can see
+//! covered when 80% (`COVERED_SHARE`) of its points were in processed views (or no view can see
 //! the rest); the search gives up when no room is left uncovered and no placeholder is left.
 
 use super::*;

@@ -1,0 +1,111 @@
+//! `avs bench`: the JSON keys scripts rely on, determinism, and errors for bad flags.
+
+use std::process::Command;
+
+fn avs(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_avs"))
+        .args(args)
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .output()
+        .expect("the avs binary runs")
+}
+
+fn bench_json(args: &[&str]) -> serde_json::Value {
+    let out = avs(args);
+    assert!(
+        out.status.success(),
+        "avs {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("--json prints JSON")
+}
+
+/// Everything but wall times.
+fn without_timings(mut v: serde_json::Value) -> serde_json::Value {
+    if let Some(o) = v.as_object_mut() {
+        o.remove("plan_ms_median");
+        if let Some(runs) = o.get_mut("runs").and_then(|r| r.as_array_mut()) {
+            for r in runs {
+                if let Some(r) = r.as_object_mut() {
+                    r.remove("plan_ms_median");
+                    r.remove("dt_ms_median");
+                }
+            }
+        }
+    }
+    v
+}
+
+#[test]
+fn bench_json_has_the_contract_keys_and_the_same_seed_gives_the_same_figures() {
+    let args = [
+        "bench",
+        "--generate",
+        "2",
+        "--seed",
+        "5",
+        "--rooms",
+        "2",
+        "--strategy",
+        "frontier",
+        "--json",
+    ];
+    let a = bench_json(&args);
+    for key in [
+        "success_rate",
+        "spl_mean",
+        "path_length_mean",
+        "plans_mean",
+        "plan_ms_median",
+        "runs",
+    ] {
+        assert!(a.get(key).is_some(), "missing `{key}` in {a:#}");
+    }
+    let runs = a["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 2);
+    let reachable: Vec<&serde_json::Value> =
+        runs.iter().filter(|r| r["reachable"] == true).collect();
+    let found = reachable.iter().filter(|r| r["found"] == true).count();
+    let rate = a["success_rate"].as_f64().unwrap();
+    assert!(
+        (rate * reachable.len() as f64 - found as f64).abs() < 1e-9,
+        "success_rate {rate} is not found/reachable = {found}/{}",
+        reachable.len()
+    );
+    for r in runs {
+        let spl = r["spl"].as_f64().unwrap();
+        assert!((0.0..=1.0).contains(&spl), "{r:#}");
+        if r["found"] != true {
+            assert_eq!(spl, 0.0, "SPL of a failed run: {r:#}");
+        }
+        // SPL never exceeds the shortest path's share of what was driven.
+        if let (Some(l), Some(p)) = (
+            r["shortest_path_length"].as_f64(),
+            r["path_length"].as_f64(),
+        ) {
+            assert!(spl <= l / l.max(p) + 1e-9, "{r:#}");
+        }
+    }
+    let b = bench_json(&args);
+    assert_eq!(without_timings(a), without_timings(b));
+}
+
+#[test]
+fn unknown_strategy_and_goal_are_errors_naming_what_is_expected() {
+    let out = avs(&["bench", "--generate", "1", "--strategy", "random"]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("planner, uninformed or frontier"),
+        "stderr: {err}"
+    );
+    let out = avs(&["bench", "--generate", "1", "--goal", "unicorn"]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--goal unicorn") && err.contains("cerealbox"),
+        "stderr: {err}"
+    );
+    let out = avs(&["bench", "--generate", "0"]);
+    assert!(!out.status.success());
+}
