@@ -260,8 +260,6 @@ fn kitchen_door_shutting_in_front_of_the_robot_ends_in_a_verdict_without_a_wrong
 }
 
 #[test]
-#[ignore = "agent: a failed motion inside ENTER's visit of a new room's placeholders is dropped \
-            without a trace event (agent.rs `enter`), so the step reports ok; see the report"]
 fn kitchen_door_shutting_in_front_of_the_robot_shows_the_failure_and_a_replan_in_the_trace() {
     let world = office();
     for seed in SEEDS {
