@@ -400,6 +400,26 @@ impl Run<'_> {
         self.sink.event(&e);
         self.events.push(e);
     }
+
+    /// Emit the goal-reached event for `f`; returns the search's ending reason.
+    fn goal_reached(&mut self, f: &FoundObject) -> String {
+        self.emit(Event::GoalReached {
+            object: f.name.clone(),
+            pose: [f.pose.x, f.pose.y, f.pose.z],
+        });
+        format!(
+            "found {} {} at ({:.2}, {:.2}, {:.2})",
+            f.class, f.name, f.pose.x, f.pose.y, f.pose.z
+        )
+    }
+
+    /// Emit the give-up event; returns `reason` as the search's ending reason.
+    fn give_up(&mut self, reason: String) -> String {
+        self.emit(Event::GaveUp {
+            reason: reason.clone(),
+        });
+        reason
+    }
 }
 
 fn pose3(p: Pose2D) -> [f64; 3] {
@@ -566,8 +586,7 @@ impl Agent {
                     "gave up after {} plans without finding a {}",
                     run.metrics.plans, goal.class
                 );
-                run.emit(Event::GaveUp { reason: r.clone() });
-                return Ok((None, r));
+                return Ok((None, run.give_up(r)));
             }
             let snap = self.snapshot(&goal.class);
             let t0 = Instant::now();
@@ -595,13 +614,11 @@ impl Agent {
                 }
                 Ok(Decision::GiveUp(g)) => {
                     let r = g.to_string();
-                    run.emit(Event::GaveUp { reason: r.clone() });
-                    return Ok((None, r));
+                    return Ok((None, run.give_up(r)));
                 }
                 Err(e) => {
                     let r = format!("the planner failed: {e}");
-                    run.emit(Event::GaveUp { reason: r.clone() });
-                    return Ok((None, r));
+                    return Ok((None, run.give_up(r)));
                 }
             };
             run.metrics.plans += 1;
@@ -651,8 +668,7 @@ impl Agent {
                         "gave up after {} actions without finding a {}",
                         run.metrics.actions, goal.class
                     );
-                    run.emit(Event::GaveUp { reason: r.clone() });
-                    return Ok((None, r));
+                    return Ok((None, run.give_up(r)));
                 }
                 run.metrics.actions += 1;
                 run.emit(Event::ActionStarted {
@@ -680,14 +696,7 @@ impl Agent {
                         run.emit(Event::ActionStarted {
                             action: format!("REPORTPOSITION {}", f.name),
                         });
-                        run.emit(Event::GoalReached {
-                            object: f.name.clone(),
-                            pose: [f.pose.x, f.pose.y, f.pose.z],
-                        });
-                        let r = format!(
-                            "found {} {} at ({:.2}, {:.2}, {:.2})",
-                            f.class, f.name, f.pose.x, f.pose.y, f.pose.z
-                        );
+                        let r = run.goal_reached(&f);
                         return Ok((Some(f), r));
                     }
                     StepEnd::Replan(r) => {

@@ -341,15 +341,8 @@ pub fn generate(
             .map(|(i, _)| i)
             .collect();
         if surfaces.is_empty() {
-            let fp = place_box(&mut rng, rect, cls.size, &[], 0.3)
-                .ok_or_else(|| GenerateError::Invalid(format!("no room fits a `{target}`")))?;
-            objects.push(standing(
-                cls,
-                fp,
-                &rooms[k].name,
-                new_id(&cls.name),
-                ObjectRole::Target,
-            ));
+            let id = new_id(&cls.name);
+            objects.push(on_floor(&mut rng, rect, cls, &rooms[k].name, id)?);
         } else {
             let lm = objects[surfaces[rng.gen_range(0..surfaces.len())]].clone();
             objects.push(object_on(
@@ -394,15 +387,8 @@ pub fn generate(
                 objects.push(object_on(&mut rng, &lm, cls, rel, new_id(&cls.name)));
             } else {
                 let (k, rect, _) = rects[rng.gen_range(0..rects.len())];
-                let fp = place_box(&mut rng, rect, cls.size, &[], 0.3)
-                    .ok_or_else(|| GenerateError::Invalid(format!("no room fits a `{target}`")))?;
-                objects.push(standing(
-                    cls,
-                    fp,
-                    &rooms[k].name,
-                    new_id(&cls.name),
-                    ObjectRole::Target,
-                ));
+                let id = new_id(&cls.name);
+                objects.push(on_floor(&mut rng, rect, cls, &rooms[k].name, id)?);
             }
         }
     }
@@ -443,6 +429,19 @@ pub fn generate(
 }
 
 /// An object standing on the floor in footprint `fp`.
+/// A target object standing on the floor of `rect` (room `room`), or an error when none fits.
+fn on_floor(
+    rng: &mut ChaCha8Rng,
+    rect: Rect,
+    cls: &avs_format::knowledge::ObjectClass,
+    room: &str,
+    id: String,
+) -> Result<Object, GenerateError> {
+    let fp = place_box(rng, rect, cls.size, &[], 0.3)
+        .ok_or_else(|| GenerateError::Invalid(format!("no room fits a `{}`", cls.name)))?;
+    Ok(standing(cls, fp, room, id, ObjectRole::Target))
+}
+
 fn standing(
     cls: &avs_format::knowledge::ObjectClass,
     fp: Rect,

@@ -56,28 +56,19 @@ impl Agent {
                     "gave up after {} actions without finding a {}",
                     run.metrics.actions, goal.class
                 );
-                run.emit(Event::GaveUp { reason: r.clone() });
-                return Ok((None, r));
+                return Ok((None, run.give_up(r)));
             }
             let Some(next) = self.baseline_next(robot, &class, strategy, &covered) else {
                 let r = format!(
                     "every reachable room was covered and no placeholder is left: no {} found",
                     goal.class
                 );
-                run.emit(Event::GaveUp { reason: r.clone() });
-                return Ok((None, r));
+                return Ok((None, run.give_up(r)));
             };
             match next {
                 Next::Cover(room) => {
                     if let Some(f) = self.cover_room(robot, goal, room, &mut covered, run)? {
-                        run.emit(Event::GoalReached {
-                            object: f.name.clone(),
-                            pose: [f.pose.x, f.pose.y, f.pose.z],
-                        });
-                        let r = format!(
-                            "found {} {} at ({:.2}, {:.2}, {:.2})",
-                            f.class, f.name, f.pose.x, f.pose.y, f.pose.z
-                        );
+                        let r = run.goal_reached(&f);
                         return Ok((Some(f), r));
                     }
                 }
