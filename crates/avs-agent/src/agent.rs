@@ -79,6 +79,11 @@ pub struct AgentConfig {
     pub process_cost: f64,
     /// Travel cost per metre, in the POMDP's reward unit.
     pub travel_cost_per_m: f64,
+    /// Rewards of a DT session's declarations, in the same unit as `process_cost` and
+    /// `travel_cost_per_m`.
+    pub session_rewards: DecisionRewards,
+    /// Discount factor of a DT session's POMDP, in (0, 1).
+    pub session_discount: f64,
     /// Largest number of view cones per location.
     pub max_cones: usize,
     /// How the agent decides where to go and look.
@@ -121,9 +126,10 @@ impl Default for AgentConfig {
             planner: {
                 let mut o = ContinualOptions::default();
                 o.search.mode = avs_plan::Mode::Optimal;
-                // An optimal plan not found in this many expansions is not worth the robot's
-                // waiting: the agent plans again in fast mode (greedy, h^FF).
-                o.search.max_expansions = 200_000;
+                // An optimal plan not found in this many expansions (about a second) is not worth
+                // the robot's waiting: the agent plans again in fast mode (greedy, h^FF). With
+                // 200 000 a floor where every plan is improbable spent minutes planning.
+                o.search.max_expansions = 50_000;
                 // The paper's 0.01 gives up while unexplored rooms remain on floors with many
                 // rooms: a plan into one unexplored room of several succeeds with ~0.01 (P(leads
                 // to a kitchen) × P(counter) × P(object on it) × detection²). Give up only when
@@ -135,8 +141,10 @@ impl Default for AgentConfig {
                 // A smaller offline budget than the solver's default: a session over 24 cones
                 // has 625 product states, and the online look-ahead refines the bounds anyway.
                 let mut o = SessionOptions::default();
-                o.offline.max_trials = 10;
+                o.offline.max_trials = 3;
                 o.offline.init_iterations = 40;
+                // Rooms have up to 24 cones: bound the session from below by sweeps over them.
+                o.sweep_bounds = true;
                 o
             },
             max_plans: 60,
@@ -145,6 +153,25 @@ impl Default for AgentConfig {
             robot_radius: 0.25,
             process_cost: 1.0,
             travel_cost_per_m: 0.5,
+            // The reference model's +10 / +5 / −20 (`viewcones2.POMDP`) were made for a few
+            // cones: against the cost of processing and travelling between 24 cones, declaring
+            // "absent" after one look was worth more than searching the room, and the planner
+            // sent the robot back to the same room session after session. A found object is
+            // worth 100 here (about 200 m of travel at 0.5 per metre), a right "absent" 20 and a
+            // wrong declaration −50: a wrong "absent" only thins the room's rate (the planner
+            // may come back) and a wrong "found" is caught by verification, so neither is the
+            // disaster −20 against +10 makes it; with −200, one pass over the cones (which
+            // leaves P(present) near 0.4 at a miss rate of 0.2) was never enough, and the
+            // robot swept every room two or three times.
+            session_rewards: DecisionRewards {
+                found: 100.0,
+                absent: 20.0,
+                wrong: -50.0,
+            },
+            // With γ = 0.95 processing the cone the robot stands at forever costs only
+            // −1 / (1 − γ) = −20, less than a wrong declaration: the session looked at one cone
+            // until the step guard stopped it. At 0.99 that costs −100.
+            session_discount: 0.99,
             max_cones: 24,
             strategy: Strategy::Planner,
         }
@@ -368,6 +395,9 @@ struct State {
     rejected: Vec<(String, [f64; 2])>,
     /// The robot's position as last seen.
     at: [f64; 2],
+    /// The room of every cell of `grid` as of the last sync
+    /// ([`avs_map::places::PlaceMap::cell_rooms`]).
+    cell_rooms: Vec<Option<usize>>,
 }
 
 /// The agent: one per robot; [`Agent::search`] once per goal. The maps are kept between goals.
@@ -433,33 +463,63 @@ impl Agent {
         knowledge: Knowledge,
         config: AgentConfig,
     ) -> Result<Self, AgentError> {
-        for (field, value, ok) in [
+        const NON_NEGATIVE: &str = "a finite non-negative number";
+        let r = config.session_rewards;
+        for (field, value, ok, expected) in [
             (
                 "min_confidence",
                 config.min_confidence,
                 (0.0..=1.0).contains(&config.min_confidence),
+                "a probability in [0, 1]",
             ),
             (
                 "robot_radius",
                 config.robot_radius,
                 config.robot_radius.is_finite() && config.robot_radius >= 0.0,
+                NON_NEGATIVE,
             ),
             (
                 "process_cost",
                 config.process_cost,
                 config.process_cost.is_finite() && config.process_cost >= 0.0,
+                NON_NEGATIVE,
             ),
             (
                 "travel_cost_per_m",
                 config.travel_cost_per_m,
                 config.travel_cost_per_m.is_finite() && config.travel_cost_per_m >= 0.0,
+                NON_NEGATIVE,
+            ),
+            (
+                "session_rewards.found",
+                r.found,
+                r.found.is_finite() && r.found > r.wrong,
+                "a finite number above session_rewards.wrong",
+            ),
+            (
+                "session_rewards.absent",
+                r.absent,
+                r.absent.is_finite() && r.absent > r.wrong,
+                "a finite number above session_rewards.wrong",
+            ),
+            (
+                "session_discount",
+                config.session_discount,
+                config.session_discount > 0.0 && config.session_discount < 1.0,
+                "a number in (0, 1)",
+            ),
+            (
+                "session_rewards.wrong",
+                r.wrong,
+                r.wrong.is_finite(),
+                "a finite number",
             ),
         ] {
             if !ok {
                 return Err(AgentError::Config {
                     field,
                     value,
-                    expected: "a finite non-negative number (a probability for min_confidence)",
+                    expected,
                 });
             }
         }
@@ -535,6 +595,7 @@ impl Agent {
                 last_target: None,
                 rejected: Vec::new(),
                 at: [0.0, 0.0],
+                cell_rooms: Vec::new(),
             });
             // Turn in place so the laser sees all around, then drop the first place.
             let p = robot.pose();
@@ -780,6 +841,39 @@ impl Agent {
         self.state().wm.room_of(p)
     }
 
+    /// The room a point lies in: the room of its cell as of the last sync (`None` for space no
+    /// room reaches, such as a room seen through its door but not entered); the room of the
+    /// nearest place before the first sync.
+    fn room_at(&self, p: [f64; 2]) -> Option<RoomId> {
+        let st = self.state();
+        let (c, r) = st.grid.world_to_cell(p[0], p[1]);
+        if st.cell_rooms.len() == st.grid.width() * st.grid.height() {
+            return if st.grid.contains(c, r) {
+                st.cell_rooms[r as usize * st.grid.width() + c as usize].map(|id| RoomId(id as u64))
+            } else {
+                None
+            };
+        }
+        self.nearest_room_place(p).and_then(|n| st.wm.room_of(n))
+    }
+
+    /// The place an object at `p` is filed under: the nearest place of the room it lies in.
+    fn object_place(&self, p: [f64; 2]) -> Option<NodeIndex> {
+        let st = self.state();
+        let room = self.room_at(p)?;
+        let g = &st.wm.places.graph;
+        st.wm
+            .rooms()
+            .find(|(r, _)| *r == room)
+            .and_then(|(_, places)| {
+                places
+                    .iter()
+                    .copied()
+                    .min_by(|&a, &b| dist(g[a].pos, p).total_cmp(&dist(g[b].pos, p)))
+            })
+            .or_else(|| self.nearest_room_place(p))
+    }
+
     /// The place with a room nearest to a point.
     fn nearest_room_place(&self, p: [f64; 2]) -> Option<NodeIndex> {
         let st = self.state();
@@ -838,7 +932,9 @@ impl Agent {
 
     fn sync(&mut self) -> Result<(), AgentError> {
         let grid = self.state().grid.clone();
-        self.state_mut().wm.sync(&grid)?;
+        let st = self.state_mut();
+        st.wm.sync(&grid)?;
+        st.cell_rooms = st.wm.places.cell_rooms(&grid);
         // Placeholders the known map gives no short path to from their place are artefacts
         // (frontier seen through a gap, behind furniture): not worth a plan.
         let spurious: Vec<bool> = {
@@ -1419,9 +1515,7 @@ impl Agent {
                 tracing::debug!(class = %d.class, x = d.pose.x, y = d.pose.y, "landmark in another room");
                 continue; // seen through a door: another room
             }
-            let near = self
-                .nearest_room_place([d.pose.x, d.pose.y])
-                .unwrap_or(place);
+            let near = self.object_place([d.pose.x, d.pose.y]).unwrap_or(place);
             let known = self
                 .state()
                 .objects
@@ -1737,12 +1831,9 @@ impl Agent {
         let st = self.state();
         let grid = &st.grid;
         let res = grid.resolution();
-        let wm = &st.wm;
         let cam = robot.camera();
         let trav = Traversability::new(grid, self.config.robot_radius, false);
-        let in_room = |x: f64, y: f64, r: u64| {
-            self.nearest_room_place([x, y]).and_then(|n| wm.room_of(n)) == Some(RoomId(r))
-        };
+        let in_room = |x: f64, y: f64, r: u64| self.room_at([x, y]) == Some(RoomId(r));
         let (points, center, reach): (Vec<[f64; 3]>, Option<[f64; 2]>, f64) = match loc {
             ConeLoc::Room(r) => (self.room_points(r, &class), None, 0.0),
             ConeLoc::On(k) => {
@@ -1764,7 +1855,13 @@ impl Agent {
                 )
             }
         };
-        let step = (POSE_SPACING / res).round().max(1.0) as usize;
+        // A landmark's top is small: poses on a finer grid, so that one lies near the middle of a
+        // small object's detection range wherever the furniture lets the robot stand.
+        let spacing = match loc {
+            ConeLoc::Room(_) => POSE_SPACING,
+            ConeLoc::On(_) => 0.5 * POSE_SPACING,
+        };
+        let step = (spacing / res).round().max(1.0) as usize;
         let mut poses = Vec::new();
         for row in (0..grid.height()).step_by(step) {
             for col in (0..grid.width()).step_by(step) {
@@ -1791,9 +1888,12 @@ impl Agent {
             tilt_limits: cam.tilt_deg.map(f64::to_radians),
             height: cam.height,
         };
+        // Likewise only the nearer part of the detection range: at its far end the detector
+        // misses most of the time.
+        let [near, far] = class.detection_range;
         let range = DetectionRange {
-            min: class.detection_range[0],
-            max: class.detection_range[1],
+            min: near,
+            max: near + COVER_RANGE_SHARE * (far - near),
         };
         // The grid holds furniture footprints: stop the sight line short of the target point.
         let los = |a: [f64; 3], b: [f64; 3]| {
@@ -1866,11 +1966,7 @@ impl Agent {
                     continue;
                 }
                 let (x, y) = grid.cell_center(col as i64, row as i64);
-                if self
-                    .nearest_room_place([x, y])
-                    .and_then(|n| st.wm.room_of(n))
-                    == Some(RoomId(r))
-                {
+                if self.room_at([x, y]) == Some(RoomId(r)) {
                     pts.push([x, y, z]);
                 }
             }
@@ -1940,10 +2036,20 @@ impl Agent {
                         process_cost: self.config.process_cost,
                         false_negative: sensor.false_negative,
                         false_positive: sensor.false_positive,
-                        rewards: DecisionRewards::default(),
-                        discount: 0.95,
+                        rewards: self.config.session_rewards,
+                        discount: self.config.session_discount,
                     },
-                    self.config.session.clone(),
+                    SessionOptions {
+                        // One pass: at most as many looks as cones, plus a few second looks at
+                        // detections; then the session declares by the immediate rewards and the
+                        // planner decides whether the location deserves another pass.
+                        max_steps: self
+                            .config
+                            .session
+                            .max_steps
+                            .min(set.views.len() + SESSION_EXTRA_LOOKS),
+                        ..self.config.session.clone()
+                    },
                 )
             });
             let mut session = match session {
@@ -2027,10 +2133,18 @@ impl Agent {
                         }
                         break;
                     }
-                    Ok(ViewConeAction::DeclareAbsent) | Err(_) => {
+                    Ok(ViewConeAction::DeclareAbsent) => {
                         run.emit(Event::DtAction {
                             action: "DECLARE-ABSENT".into(),
                             detected: None,
+                        });
+                        break;
+                    }
+                    Err(e) => {
+                        // The session cannot decide (a solver error): treated as "absent",
+                        // and the trace says why.
+                        run.emit(Event::Observed {
+                            what: format!("the view-cone POMDP failed: {e}"),
                         });
                         break;
                     }
@@ -2069,7 +2183,7 @@ impl Agent {
         match outcome {
             Some(d) => {
                 let place = self
-                    .nearest_room_place([d.pose.x, d.pose.y])
+                    .object_place([d.pose.x, d.pose.y])
                     .or_else(|| self.current_place());
                 let Some(place) = place else {
                     return Ok(StepEnd::Replan("the robot is on no place".into()));
@@ -2304,8 +2418,7 @@ impl Agent {
                     .fold(self.footprint_slack(&d.class), f64::max);
                 !known
                     && self.same_room(here, [d.pose.x, d.pose.y], slack)
-                    && self.nearest_room_place(here).and_then(|n| st.wm.room_of(n))
-                        == Some(RoomId(r))
+                    && self.room_at(here) == Some(RoomId(r))
             }
         }
     }
@@ -2343,6 +2456,11 @@ const SMALL_OBJECT_Z: f64 = 0.8;
 const POINT_SPACING: f64 = 0.4;
 /// Spacing of candidate view poses, metres.
 const POSE_SPACING: f64 = 0.7;
+/// Looks a DT session may take beyond one per cone (second looks at detections).
+const SESSION_EXTRA_LOOKS: usize = 3;
+/// Share of a class's detection range (from its near end) within which view planning counts a
+/// point as covered.
+const COVER_RANGE_SHARE: f64 = 0.8;
 /// Share of the camera's field of view in which view planning counts a point as covered.
 const COVER_FOV_SHARE: f64 = 0.75;
 /// Sight lines stop this short of the target point (furniture footprints are in the grid).

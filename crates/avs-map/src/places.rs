@@ -16,9 +16,15 @@
 //!   via the door place.
 //! * **Placeholders** sit on the frontier between known free and unknown space: one per connected
 //!   frontier segment at least `min_frontier` long, hanging off the nearest place that sees it,
-//!   with the unknown open area behind it (flood fill through unknown cells, up to
-//!   `open_area_radius` from the placeholder, bounded by known obstacles) and the distance to the
-//!   nearest door hypothesis — the two cues of the placeholder hypotheses of §III-A.1.
+//!   with the open area around it and the distance to the nearest door hypothesis — the two cues
+//!   of the placeholder hypotheses of §III-A.1. The open area is the space not yet covered by
+//!   places: a flood fill from the frontier segment through unknown cells and through known free
+//!   cells farther than `covered_distance` from every place (space seen, e.g. through an open
+//!   door, but not visited), up to `open_area_radius` from the placeholder and bounded by known
+//!   obstacles. This follows the papers' placeholders, which stand for free space beyond the
+//!   place graph rather than for laser frontiers alone. A placeholder seen through a door — the
+//!   straight line from the place it hangs off crosses the door's line at the opening or within a
+//!   metre beyond a jamb — lies in the room behind that door, so its door distance is 0.
 //! * **Rooms** are the connected components of the place graph once door places are cut out.
 //!   Each room is named by its smallest place index, so names are stable while it grows.
 
@@ -39,8 +45,11 @@ pub struct PlaceMapParams {
     pub doors: DoorParams,
     /// Shortest frontier segment that gets a placeholder, metres.
     pub min_frontier: f64,
-    /// How far behind a placeholder unknown open space is counted, metres.
+    /// How far around a placeholder open space is counted, metres.
     pub open_area_radius: f64,
+    /// Known free space farther than this from every place counts as open (not yet visited),
+    /// metres.
+    pub covered_distance: f64,
 }
 
 impl Default for PlaceMapParams {
@@ -50,6 +59,7 @@ impl Default for PlaceMapParams {
             doors: DoorParams::default(),
             min_frontier: 0.5,
             open_area_radius: 3.0,
+            covered_distance: 2.0,
         }
     }
 }
@@ -92,9 +102,10 @@ pub struct Placeholder {
     pub place: NodeIndex,
     /// Length of the frontier segment, metres.
     pub frontier_length: f64,
-    /// Unknown open area behind it, m².
+    /// Open area around it (unknown, or seen but farther than `covered_distance` from every
+    /// place), m².
     pub open_area: f64,
-    /// Distance to the nearest door hypothesis, metres.
+    /// Distance to the nearest door hypothesis, metres; 0 when it is seen through a door.
     pub door_distance: Option<f64>,
 }
 
@@ -246,6 +257,90 @@ impl PlaceMap {
             }
         }
         self.placeholders = self.find_placeholders(known);
+    }
+
+    /// The room of every cell of `known` (row-major, `MapRoom::id`), or `None` for cells no
+    /// room reaches: each known free cell takes the room of the place nearest to it *through
+    /// known free space* (a multi-source breadth-first search from the rooms' places, 4-connected
+    /// so that it cannot slip diagonally through a line), with every door hypothesis's opening
+    /// closed, so that a room never spills through a doorway into the space beyond it, seen but
+    /// not visited. Obstacle cells (furniture footprints, walls) then take the room of the
+    /// labelled free space around them, up to `OBSTACLE_REACH` metres deep. This is the room
+    /// extent a search of "the room" covers; the nearest place in a straight line would hand
+    /// the far half of a room entered only at its door to the corridor outside.
+    pub fn cell_rooms(&self, known: &OccupancyGrid) -> Vec<Option<usize>> {
+        const OBSTACLE_REACH: f64 = 1.0;
+        let (w, h) = (known.width() as i64, known.height() as i64);
+        let res = known.resolution();
+        let idx = |c: i64, r: i64| (r * w + c) as usize;
+        let mut closed = vec![false; (w * h) as usize];
+        for d in &self.doors {
+            let [a, b] = d.hypothesis.jambs;
+            let n = (dist(a, b) / (0.25 * res)).ceil().max(1.0) as usize;
+            for i in 0..=n {
+                let t = i as f64 / n as f64;
+                let (c, r) =
+                    known.world_to_cell(a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]));
+                if known.contains(c, r) {
+                    closed[idx(c, r)] = true;
+                }
+            }
+        }
+        let mut label: Vec<Option<usize>> = vec![None; (w * h) as usize];
+        let mut q = VecDeque::new();
+        for room in self.rooms().rooms {
+            for &n in &room.places {
+                let p = self.graph[n].pos;
+                let (c, r) = known.world_to_cell(p[0], p[1]);
+                if known.contains(c, r)
+                    && known.get_i(c, r) == Cell::Free
+                    && !closed[idx(c, r)]
+                    && label[idx(c, r)].is_none()
+                {
+                    label[idx(c, r)] = Some(room.id);
+                    q.push_back((c, r));
+                }
+            }
+        }
+        const STEPS: [(i64, i64); 4] = [(1, 0), (-1, 0), (0, 1), (0, -1)];
+        let mut edge = Vec::new();
+        while let Some((c, r)) = q.pop_front() {
+            let l = label[idx(c, r)];
+            for (dc, dr) in STEPS {
+                let (nc, nr) = (c + dc, r + dr);
+                if !known.contains(nc, nr) || label[idx(nc, nr)].is_some() {
+                    continue;
+                }
+                match known.get_i(nc, nr) {
+                    Cell::Free if !closed[idx(nc, nr)] => {
+                        label[idx(nc, nr)] = l;
+                        q.push_back((nc, nr));
+                    }
+                    Cell::Occupied => edge.push((c, r)),
+                    _ => {}
+                }
+            }
+        }
+        // Into the obstacles, breadth first from the labelled free cells that touch them.
+        let depth = (OBSTACLE_REACH / res).round() as usize;
+        let mut q: VecDeque<(i64, i64, usize)> = edge.into_iter().map(|(c, r)| (c, r, 0)).collect();
+        while let Some((c, r, k)) = q.pop_front() {
+            if k >= depth {
+                continue;
+            }
+            let l = label[idx(c, r)];
+            for (dc, dr) in STEPS {
+                let (nc, nr) = (c + dc, r + dr);
+                if known.contains(nc, nr)
+                    && label[idx(nc, nr)].is_none()
+                    && known.get_i(nc, nr) == Cell::Occupied
+                {
+                    label[idx(nc, nr)] = l;
+                    q.push_back((nc, nr, k + 1));
+                }
+            }
+        }
+        label
     }
 
     /// Rooms: connected components of the place graph without door places.
@@ -498,10 +593,17 @@ impl PlaceMap {
                     continue;
                 };
                 let open_area = self.open_area_behind(known, &cluster, pos);
+                let from = self.graph[place].pos;
                 let door_distance = self
                     .doors
                     .iter()
-                    .map(|d| dist(d.hypothesis.center, pos))
+                    .map(|d| {
+                        if crosses_door_wall(&d.hypothesis, from, pos) {
+                            0.0
+                        } else {
+                            dist(d.hypothesis.center, pos)
+                        }
+                    })
                     .min_by(f64::total_cmp);
                 out.push(Placeholder {
                     pos,
@@ -540,15 +642,30 @@ impl PlaceMap {
         let r2 = (self.params.open_area_radius / res).powi(2);
         let (pc, pr) = known.world_to_cell(pos[0], pos[1]);
         let w = known.width() as i64;
+        // Places near enough to cover some cell within the radius.
+        let reach = self.params.open_area_radius + self.params.covered_distance;
+        let near: Vec<[f64; 2]> = self
+            .graph
+            .node_weights()
+            .map(|p| p.pos)
+            .filter(|&q| dist(q, pos) <= reach)
+            .collect();
+        let covered2 = self.params.covered_distance.powi(2);
+        let open = |c: i64, r: i64| match known.get_i(c, r) {
+            Cell::Unknown => true,
+            Cell::Free => {
+                let (x, y) = known.cell_center(c, r);
+                near.iter()
+                    .all(|q| (q[0] - x).powi(2) + (q[1] - y).powi(2) > covered2)
+            }
+            _ => false,
+        };
         let mut seen = std::collections::HashSet::new();
         let mut q = VecDeque::new();
         for &(c, r) in cluster {
-            for (dc, dr) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
+            for (dc, dr) in [(0, 0), (1, 0), (-1, 0), (0, 1), (0, -1)] {
                 let (nc, nr) = (c + dc, r + dr);
-                if known.contains(nc, nr)
-                    && known.get_i(nc, nr) == Cell::Unknown
-                    && seen.insert(nr * w + nc)
-                {
+                if known.contains(nc, nr) && open(nc, nr) && seen.insert(nr * w + nc) {
                     q.push_back((nc, nr));
                 }
             }
@@ -561,9 +678,10 @@ impl PlaceMap {
                 let d2 = ((nc - pc).pow(2) + (nr - pr).pow(2)) as f64;
                 if d2 <= r2
                     && known.contains(nc, nr)
-                    && known.get_i(nc, nr) == Cell::Unknown
-                    && seen.insert(nr * w + nc)
+                    && !seen.contains(&(nr * w + nc))
+                    && open(nc, nr)
                 {
+                    seen.insert(nr * w + nc);
                     q.push_back((nc, nr));
                 }
             }
@@ -737,5 +855,104 @@ mod tests {
             "{:?}",
             ph.door_distance
         );
+    }
+
+    /// `two_rooms` with the right room seen through the door: a band of it in front of the
+    /// opening is known free, the rest unknown.
+    fn right_room_seen_through_the_door() -> OccupancyGrid {
+        let (w, h) = (86usize, 34usize);
+        let mut rows = vec![];
+        for r in 0..h {
+            let mut line = String::new();
+            for c in 0..w {
+                let border = r < 2 || r >= h - 2 || c < 2 || c >= w - 2;
+                let wall = (42..44).contains(&c) && !(12..21).contains(&r);
+                let seen = c < 44 || ((8..26).contains(&r) && c < 70);
+                line.push(if border || wall {
+                    '#'
+                } else if seen {
+                    '.'
+                } else {
+                    '?'
+                });
+            }
+            rows.push(line);
+        }
+        OccupancyGrid::from_ascii(&(rows.join("\n") + "\n"), 0.1, [0.0, 0.0]).unwrap()
+    }
+
+    #[test]
+    fn a_placeholder_seen_through_a_door_is_behind_it_and_counts_the_unvisited_space() {
+        let g = right_room_seen_through_the_door();
+        let far_side = |params: PlaceMapParams| {
+            let mut map = PlaceMap::new(params);
+            walk(&mut map, &g, &[[1.0, 1.6], [3.0, 1.6]]);
+            assert_eq!(
+                map.rooms().rooms.len(),
+                1,
+                "the robot stayed in the left room"
+            );
+            map.placeholders
+                .iter()
+                .filter(|p| p.pos[0] > 4.6)
+                .max_by(|a, b| a.open_area.total_cmp(&b.open_area))
+                .cloned()
+                .expect("a placeholder in the right room")
+        };
+        let ph = far_side(PlaceMapParams::default());
+        // The line from its place in the left room passes through the opening.
+        assert_eq!(ph.door_distance, Some(0.0), "{ph:?}");
+        // Seen-but-unvisited free space counts: far more open area than the unknown cells
+        // alone, which is what a map that counts every known cell as covered reports.
+        let unknown_only = far_side(PlaceMapParams {
+            covered_distance: f64::INFINITY,
+            ..PlaceMapParams::default()
+        });
+        assert!(
+            ph.open_area > unknown_only.open_area + 3.0,
+            "open area {} vs unknown only {}",
+            ph.open_area,
+            unknown_only.open_area
+        );
+    }
+
+    #[test]
+    fn cells_take_the_room_reached_through_free_space_and_never_spill_through_a_door() {
+        let g = two_rooms(false);
+        let at = |labels: &[Option<usize>], x: f64, y: f64| {
+            let (c, r) = g.world_to_cell(x, y);
+            labels[(r * g.width() as i64 + c) as usize]
+        };
+        // Only the left room visited: the right room, seen through the open door, is no room.
+        let mut map = PlaceMap::new(PlaceMapParams::default());
+        walk(&mut map, &g, &[[1.0, 1.6], [3.6, 1.6]]);
+        let rooms = map.rooms().rooms;
+        assert_eq!(rooms.len(), 1);
+        let labels = map.cell_rooms(&g);
+        assert_eq!(
+            at(&labels, 0.3, 0.3),
+            Some(rooms[0].id),
+            "far corner of the left room"
+        );
+        assert_eq!(at(&labels, 4.1, 0.3), Some(rooms[0].id), "beside the wall");
+        assert_eq!(at(&labels, 5.0, 1.6), None, "just through the door");
+        assert_eq!(at(&labels, 8.2, 3.0), None, "far corner of the right room");
+        // Through the door and one step in: the right room's cells, up to its far corner, are the
+        // right room's; the left room's stay the left room's.
+        walk(&mut map, &g, &[[3.6, 1.6], [5.4, 1.6]]);
+        let rooms = map.rooms();
+        assert_eq!(rooms.rooms.len(), 2, "{:?}", rooms.rooms);
+        let right = rooms
+            .rooms
+            .iter()
+            .find(|r| r.places.iter().any(|&n| map.graph[n].pos[0] > 4.6))
+            .expect("a room right of the wall")
+            .id;
+        let labels = map.cell_rooms(&g);
+        assert_eq!(at(&labels, 8.2, 3.0), Some(right));
+        assert_eq!(at(&labels, 4.7, 0.3), Some(right));
+        assert_ne!(at(&labels, 3.9, 0.3), Some(right));
+        // The wall between them is labelled (by either side), the outer border cell too.
+        assert!(at(&labels, 4.3, 0.3).is_some());
     }
 }

@@ -241,7 +241,15 @@ impl ContinualPlanner {
         let task = &g.task;
         let mut opts = self.options.search;
         opts.min_probability = self.options.min_success;
-        let (plan, stats) = search(task, &opts)?;
+        let result = search(task, &opts);
+        tracing::debug!(
+            variables = task.variables.len(),
+            operators = task.operators.len(),
+            mode = ?opts.mode,
+            stats = ?result.as_ref().ok().map(|r| r.1),
+            "searched"
+        );
+        let (plan, stats) = result?;
         let Some(plan) = plan else {
             // Is there any plan at all, and how likely is the best one?
             let mut any = self.options.search;

@@ -58,6 +58,7 @@ fn viewcone(c: &mut Criterion) {
             time_limit: None,
         },
         max_steps: 100,
+        sweep_bounds: false,
     };
     let session = ViewConeSession::new(&twenty_cones(), opts).expect("session starts");
     c.bench_function("viewcone20_next_action_first", |b| {

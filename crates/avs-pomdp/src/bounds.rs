@@ -283,7 +283,7 @@ impl Bounds {
     }
 
     /// Add an α-vector unless another dominates it pointwise; drop the ones it dominates.
-    fn add_alpha(&mut self, new: AlphaVector) {
+    pub(crate) fn add_alpha(&mut self, new: AlphaVector) {
         if self
             .alphas
             .iter()

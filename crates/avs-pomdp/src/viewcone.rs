@@ -13,7 +13,7 @@
 //! `found` / `absent` when right and `wrong` otherwise. Repeated processing of a cone gives independent
 //! observations (the paper's sensing model is a fixed FN/FP pair, 0.2 / 0.05).
 
-use crate::bounds::Bounds;
+use crate::bounds::{AlphaVector, Bounds};
 use crate::error::{PomdpError, Result};
 use crate::model::{to_sparse, Pomdp, PomdpTables};
 use crate::offline::{solve_from, OfflineOptions};
@@ -359,6 +359,73 @@ impl ViewConePomdp {
         &self.pomdp
     }
 
+    /// Lower-bound α-vectors of *sweep* policies: process the cones in a nearest-neighbour order,
+    /// declare the target found in the first cone that detects it, and declare it absent after
+    /// the last cone; one tour from the start pose and one beginning at each cone. Each is a
+    /// fixed policy, so its value vector is a valid lower bound on V* (any policy's value is).
+    ///
+    /// The blind-policy bounds alone value "process the nearest cone forever" at
+    /// −cost / (1 − γ): when declarations look worse than that (a room of many cones), a
+    /// depth-limited online search whose leaves carry those bounds re-processes the cone it stands
+    /// at until the step guard ends the session. A sweep's value counts what covering the
+    /// location is worth.
+    pub fn sweep_vectors(&self) -> Vec<AlphaVector> {
+        let (n, m) = (self.n, &self.pomdp);
+        let nt = n + 1;
+        let idx = |pos: usize, t: usize| pos * nt + t;
+        let gamma = m.discount();
+        // Travel plus processing from pose `pos` to cone `i`, read off the reward table.
+        let cost = |pos: usize, i: usize| -m.reward(idx(pos, 0), i);
+        let found = |t: usize, i: usize| m.reward(idx(0, t), n + i);
+        let absent = |t: usize| m.reward(idx(0, t), 2 * n);
+        // Process cone `i` at cost `c`, declare it found on a detection (the declaration's reward
+        // one step later), else go on with value `rest`; the target is `t` (`n`: absent).
+        let step = |c: f64, t: usize, i: usize, rest: f64| {
+            let det = m.observation(i, idx(i + 1, t), 0);
+            -c + gamma * (det * found(t, i) + (1.0 - det) * rest)
+        };
+        let tour = |first: Option<usize>| {
+            let mut order: Vec<usize> = Vec::with_capacity(n);
+            let mut left = vec![true; n];
+            let mut pos = 0; // the start pose
+            if let Some(j) = first {
+                order.push(j);
+                left[j] = false;
+                pos = j + 1;
+            }
+            while let Some(i) = (0..n)
+                .filter(|&i| left[i])
+                .min_by(|&a, &b| cost(pos, a).total_cmp(&cost(pos, b)).then(a.cmp(&b)))
+            {
+                order.push(i);
+                left[i] = false;
+                pos = i + 1;
+            }
+            order
+        };
+        // The vector of "process order[k..] in turn, then declare absent", from any pose.
+        let vector = |order: &[usize], k: usize| {
+            let mut values = vec![0.0; m.n_states()];
+            for t in 0..nt {
+                let mut rest = absent(t);
+                for j in (k + 1..order.len()).rev() {
+                    rest = step(cost(order[j - 1] + 1, order[j]), t, order[j], rest);
+                }
+                for pos in 0..=n {
+                    values[idx(pos, t)] = step(cost(pos, order[k]), t, order[k], rest);
+                }
+            }
+            AlphaVector {
+                values,
+                action: order[k],
+            }
+        };
+        std::iter::once(None)
+            .chain((0..n).map(Some))
+            .map(|first| vector(&tour(first), 0))
+            .collect()
+    }
+
     /// Map a generic action index to a view-cone action.
     pub fn action(&self, a: usize) -> ViewConeAction {
         if a < self.n {
@@ -396,6 +463,12 @@ pub struct SessionOptions {
     /// After this many processed cones the session declares by the best immediate reward
     /// (a guard; a converged policy declares long before).
     pub max_steps: usize,
+    /// Start the offline lower bound from the sweep policies' values as well as the blind
+    /// policies' ([`ViewConePomdp::sweep_vectors`]); for locations with many cones. Off by
+    /// default: with a perfect sensor and a one-step look-ahead, a session whose bound holds
+    /// only whole sweeps can keep re-processing a cone it has emptied (no tour's tail is in the
+    /// bound).
+    pub sweep_bounds: bool,
 }
 
 impl Default for SessionOptions {
@@ -411,6 +484,7 @@ impl Default for SessionOptions {
             },
             online: OnlineOptions::default(),
             max_steps: 100,
+            sweep_bounds: false,
         }
     }
 }
@@ -469,7 +543,13 @@ impl ViewConeSession {
             ));
         }
         let m = model.pomdp();
-        let sol = solve_from(m, m.initial_belief(), None, &opts.offline)?;
+        let mut bounds = Bounds::initial(m, opts.offline.init_iterations);
+        if opts.sweep_bounds {
+            for v in model.sweep_vectors() {
+                bounds.add_alpha(v);
+            }
+        }
+        let sol = solve_from(m, m.initial_belief(), Some(bounds), &opts.offline)?;
         tracing::debug!(
             lower = sol.lower,
             upper = sol.upper,

@@ -76,6 +76,7 @@ fn quick_options() -> SessionOptions {
             time_limit: None,
         },
         max_steps: 12,
+        sweep_bounds: false,
     }
 }
 
@@ -235,4 +236,91 @@ fn seeded_simulation_matches_the_rates_the_fn_fp_model_predicts() {
             "target {target:?}: predicted success {predicted}"
         );
     }
+}
+
+/// Sixteen cones on a 4 × 4 grid a metre apart, P(ObjectAt L) = 0.8 spread evenly,
+/// declarations worth +100 / +20 / −50 and γ = 0.99 (as the agent uses them).
+fn sixteen_cones() -> ViewConeProblem {
+    let pos: Vec<[f64; 2]> = (0..16).map(|i| [(i % 4) as f64, (i / 4) as f64]).collect();
+    let (from_start, travel) = avs_pomdp::euclidean_travel([-1.0, 0.0], &pos, 0.5);
+    ViewConeProblem {
+        cone_prior: vec![0.05; 16],
+        travel_from_start: from_start,
+        travel,
+        process_cost: 1.0,
+        false_negative: 0.2,
+        false_positive: 0.05,
+        rewards: DecisionRewards {
+            found: 100.0,
+            absent: 20.0,
+            wrong: -50.0,
+        },
+        discount: 0.99,
+    }
+}
+
+#[test]
+fn sweep_policy_vectors_never_exceed_the_optimal_value() {
+    for problem in [
+        viewcones2_problem(),
+        three_cones(0.2, 0.05),
+        sixteen_cones(),
+    ] {
+        let model = ViewConePomdp::new(&problem).unwrap();
+        let sol = solve(
+            model.pomdp(),
+            &OfflineOptions {
+                target_gap: 0.5,
+                max_trials: 50,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let b0 = model.pomdp().initial_belief();
+        let vectors = model.sweep_vectors();
+        assert_eq!(vectors.len(), problem.cone_prior.len() + 1);
+        for v in &vectors {
+            let value: f64 = v.values.iter().zip(b0).map(|(a, b)| a * b).sum();
+            assert!(
+                value <= sol.upper + 1e-9,
+                "a sweep is worth {value} > the upper bound {}",
+                sol.upper
+            );
+        }
+    }
+}
+
+#[test]
+fn a_session_over_sixteen_empty_cones_looks_at_each_at_most_twice_then_declares_absent() {
+    let opts = SessionOptions {
+        offline: OfflineOptions {
+            max_trials: 10,
+            init_iterations: 40,
+            ..Default::default()
+        },
+        online: OnlineOptions::default(),
+        max_steps: 100,
+        sweep_bounds: true,
+    };
+    let mut session = ViewConeSession::new(&sixteen_cones(), opts).unwrap();
+    let mut looks = [0usize; 16];
+    let mut steps = 0;
+    while session.outcome().is_none() {
+        match session.next_action().unwrap() {
+            ViewConeAction::Process { cone } => {
+                looks[cone] += 1;
+                steps += 1;
+                session.observe(false).unwrap();
+            }
+            _ => break,
+        }
+    }
+    assert_eq!(session.outcome(), Some(Outcome::Absent), "looks {looks:?}");
+    assert!(steps < 100, "the step guard ended the session: {looks:?}");
+    assert!(
+        looks.iter().all(|&k| k <= 2),
+        "a cone processed more than twice: {looks:?}"
+    );
+    let distinct = looks.iter().filter(|&&k| k > 0).count();
+    assert!(distinct >= 8, "only {distinct} cones looked at: {looks:?}");
 }

@@ -281,7 +281,7 @@ impl Agent {
             if let Some(d) = confirmed {
                 let k = self.state().objects.len();
                 let place = self
-                    .nearest_room_place([d.pose.x, d.pose.y])
+                    .object_place([d.pose.x, d.pose.y])
                     .or_else(|| self.current_place());
                 if let Some(place) = place {
                     self.state_mut().objects.push(Known {

@@ -57,6 +57,10 @@ pub struct Args {
     /// Print the result as JSON (with every run).
     #[arg(long)]
     pub json: bool,
+    /// Write each floor's environment to DIR/floor-SEED.yaml, to replay one run with
+    /// `avs search --env DIR/floor-SEED.yaml --goal CLASS --seed SEED`.
+    #[arg(long, value_name = "DIR")]
+    pub save_floors: Option<PathBuf>,
 }
 
 /// One floor's run.
@@ -111,6 +115,7 @@ fn floor(
     rooms: usize,
     goal: &str,
     misleading: bool,
+    save: Option<&std::path::Path>,
 ) -> anyhow::Result<World> {
     let env = generate(
         k,
@@ -126,6 +131,15 @@ fn floor(
         },
     )
     .with_context(|| format!("generating floor {seed}"))?;
+    if let Some(dir) = save {
+        let path = dir.join(format!("floor-{seed}.yaml"));
+        let text = format!(
+            "# Floor {seed} of `avs bench --rooms {rooms}{}`; target {goal}.\n{}",
+            if misleading { " --misleading" } else { "" },
+            serde_yaml::to_string(&env)?
+        );
+        std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
+    }
     World::new(env, std::path::Path::new(".")).with_context(|| format!("floor {seed}"))
 }
 
@@ -140,6 +154,7 @@ pub fn bench(
     strategy: Strategy,
     misleading: bool,
     goal: Option<&str>,
+    save_floors: Option<&std::path::Path>,
     tick: &(dyn Fn() + Sync),
 ) -> anyhow::Result<BenchResult> {
     let targets: Vec<&str> = knowledge
@@ -174,7 +189,7 @@ pub fn bench(
                     targets[rng.gen_range(0..targets.len())].to_string()
                 }
             };
-            let world = floor(knowledge, s, rooms, &g, misleading)?;
+            let world = floor(knowledge, s, rooms, &g, misleading, save_floors)?;
             let out = search_world(
                 &world,
                 knowledge,
@@ -234,6 +249,9 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     let knowledge: Knowledge = avs_format::load_yaml(&kpath)
         .with_context(|| format!("loading knowledge {}", kpath.display()))?;
     let domain = load_domain(&dpath)?;
+    if let Some(dir) = &a.save_floors {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
     let bar = ProgressBar::new(a.generate as u64);
     bar.set_style(
         ProgressStyle::with_template(
@@ -253,6 +271,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         a.strategy,
         a.misleading,
         a.goal.as_deref(),
+        a.save_floors.as_deref(),
         &tick,
     )?;
     bar.finish_and_clear();
