@@ -109,3 +109,56 @@ fn unknown_strategy_and_goal_are_errors_naming_what_is_expected() {
     let out = avs(&["bench", "--generate", "0"]);
     assert!(!out.status.success());
 }
+
+#[test]
+fn a_saved_floor_replays_with_avs_search_to_the_same_run() {
+    let dir = std::env::temp_dir().join(format!("avs-bench-floors-{}", std::process::id()));
+    let d = dir.to_str().unwrap();
+    let a = bench_json(&[
+        "bench",
+        "--generate",
+        "1",
+        "--seed",
+        "7",
+        "--rooms",
+        "2",
+        "--strategy",
+        "frontier",
+        "--json",
+        "--save-floors",
+        d,
+    ]);
+    let run = &a["runs"][0];
+    let floor = dir.join("floor-7.yaml");
+    assert!(floor.exists(), "no {}", floor.display());
+    let goal = run["goal"].as_str().unwrap();
+    let out = avs(&[
+        "search",
+        "--env",
+        floor.to_str().unwrap(),
+        "--knowledge",
+        "knowledge/office.yaml",
+        "--domain",
+        "domains/object_search.yaml",
+        "--goal",
+        goal,
+        "--seed",
+        "7",
+        "--strategy",
+        "frontier",
+        "--json",
+    ]);
+    let replay: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+        panic!(
+            "avs search --json: {e}; stderr {}",
+            String::from_utf8_lossy(&out.stderr)
+        )
+    });
+    for key in ["found", "path_length", "shortest_path_length", "reason"] {
+        assert_eq!(
+            replay[key], run[key],
+            "`{key}` differs between bench and replay"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
