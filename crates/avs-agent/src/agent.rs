@@ -491,6 +491,12 @@ impl Agent {
                 NON_NEGATIVE,
             ),
             (
+                "session_rewards.wrong",
+                r.wrong,
+                r.wrong.is_finite(),
+                "a finite number",
+            ),
+            (
                 "session_rewards.found",
                 r.found,
                 r.found.is_finite() && r.found > r.wrong,
@@ -507,12 +513,6 @@ impl Agent {
                 config.session_discount,
                 config.session_discount > 0.0 && config.session_discount < 1.0,
                 "a number in (0, 1)",
-            ),
-            (
-                "session_rewards.wrong",
-                r.wrong,
-                r.wrong.is_finite(),
-                "a finite number",
             ),
         ] {
             if !ok {

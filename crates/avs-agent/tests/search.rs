@@ -148,3 +148,32 @@ fn unknown_goal_class_is_an_error_naming_the_known_classes() {
         .to_string();
     assert!(e.contains("unicorn") && e.contains("cerealbox"), "{e}");
 }
+
+#[test]
+fn bad_session_settings_are_errors_naming_the_field() {
+    let error = |c: AgentConfig| {
+        Agent::new(domain(), knowledge(), c)
+            .unwrap_err()
+            .to_string()
+    };
+    let d = AgentConfig::default();
+    let e = error(AgentConfig {
+        session_discount: 1.0,
+        ..d.clone()
+    });
+    assert!(e.contains("session_discount"), "{e}");
+    let mut rewards = d.session_rewards;
+    rewards.wrong = f64::NAN;
+    let e = error(AgentConfig {
+        session_rewards: rewards,
+        ..d.clone()
+    });
+    assert!(e.contains("session_rewards.wrong"), "{e}");
+    let mut rewards = d.session_rewards;
+    rewards.found = rewards.wrong - 1.0;
+    let e = error(AgentConfig {
+        session_rewards: rewards,
+        ..d
+    });
+    assert!(e.contains("session_rewards.found"), "{e}");
+}
