@@ -763,8 +763,9 @@ pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
 mod tests {
     use super::*;
 
-    /// Two 4 m × 3 m rooms side by side, joined by a 0.9 m door in a 0.2 m wall.
-    fn two_rooms(unknown_right: bool) -> OccupancyGrid {
+    /// Two 4 m × 3 m rooms side by side, joined by a 0.9 m door in a 0.2 m wall; the free cells
+    /// for which `known(col, row)` is false are unknown.
+    fn two_rooms_with(known: impl Fn(usize, usize) -> bool) -> OccupancyGrid {
         let (w, h) = (86usize, 34usize);
         let mut rows = vec![];
         for r in 0..h {
@@ -772,18 +773,22 @@ mod tests {
             for c in 0..w {
                 let border = r < 2 || r >= h - 2 || c < 2 || c >= w - 2;
                 let wall = (42..44).contains(&c) && !(12..21).contains(&r);
-                let ch = if border || wall {
+                line.push(if border || wall {
                     '#'
-                } else if unknown_right && c >= 44 {
-                    '?'
-                } else {
+                } else if known(c, r) {
                     '.'
-                };
-                line.push(ch);
+                } else {
+                    '?'
+                });
             }
             rows.push(line);
         }
         OccupancyGrid::from_ascii(&(rows.join("\n") + "\n"), 0.1, [0.0, 0.0]).unwrap()
+    }
+
+    /// `two_rooms_with`, the right room unknown or not.
+    fn two_rooms(unknown_right: bool) -> OccupancyGrid {
+        two_rooms_with(|c, _| !(unknown_right && c >= 44))
     }
 
     fn walk(map: &mut PlaceMap, g: &OccupancyGrid, pts: &[[f64; 2]]) {
@@ -860,25 +865,7 @@ mod tests {
     /// `two_rooms` with the right room seen through the door: a band of it in front of the
     /// opening is known free, the rest unknown.
     fn right_room_seen_through_the_door() -> OccupancyGrid {
-        let (w, h) = (86usize, 34usize);
-        let mut rows = vec![];
-        for r in 0..h {
-            let mut line = String::new();
-            for c in 0..w {
-                let border = r < 2 || r >= h - 2 || c < 2 || c >= w - 2;
-                let wall = (42..44).contains(&c) && !(12..21).contains(&r);
-                let seen = c < 44 || ((8..26).contains(&r) && c < 70);
-                line.push(if border || wall {
-                    '#'
-                } else if seen {
-                    '.'
-                } else {
-                    '?'
-                });
-            }
-            rows.push(line);
-        }
-        OccupancyGrid::from_ascii(&(rows.join("\n") + "\n"), 0.1, [0.0, 0.0]).unwrap()
+        two_rooms_with(|c, r| c < 44 || ((8..26).contains(&r) && c < 70))
     }
 
     #[test]

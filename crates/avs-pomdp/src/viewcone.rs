@@ -403,26 +403,26 @@ impl ViewConePomdp {
             }
             order
         };
-        // The vector of "process order[k..] in turn, then declare absent", from any pose.
-        let vector = |order: &[usize], k: usize| {
+        // The vector of "process `order` in turn, then declare absent", from any pose.
+        let vector = |order: &[usize]| {
             let mut values = vec![0.0; m.n_states()];
             for t in 0..nt {
                 let mut rest = absent(t);
-                for j in (k + 1..order.len()).rev() {
+                for j in (1..order.len()).rev() {
                     rest = step(cost(order[j - 1] + 1, order[j]), t, order[j], rest);
                 }
                 for pos in 0..=n {
-                    values[idx(pos, t)] = step(cost(pos, order[k]), t, order[k], rest);
+                    values[idx(pos, t)] = step(cost(pos, order[0]), t, order[0], rest);
                 }
             }
             AlphaVector {
                 values,
-                action: order[k],
+                action: order[0],
             }
         };
         std::iter::once(None)
             .chain((0..n).map(Some))
-            .map(|first| vector(&tour(first), 0))
+            .map(|first| vector(&tour(first)))
             .collect()
     }
 
