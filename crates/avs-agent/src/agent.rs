@@ -317,6 +317,30 @@ struct Snapshot {
     attach: HashMap<String, [f64; 2]>,
     rooms: HashMap<String, RoomId>,
     objects: HashMap<String, usize>,
+    /// The object classes that can lead to the goal: its own class and the landmark classes
+    /// it (or another such class) may lie on. Assuming any other object exists cannot help a
+    /// plan, so those assumptions get probability 0 and are not grounded.
+    relevant: BTreeSet<String>,
+}
+
+/// The goal's class and, transitively, the landmark classes an object of a relevant class lies
+/// on with a positive rate in some room category (the relation of the domain's
+/// `assume-object-exists-on`). Only these can take part in a plan for the goal.
+fn relevant_classes(knowledge: &Knowledge, goal: &str) -> BTreeSet<String> {
+    let mut relevant = BTreeSet::from([goal.to_string()]);
+    let mut todo = vec![goal.to_string()];
+    while let Some(l) = todo.pop() {
+        for r in &knowledge.landmark_rates {
+            if r.object == l
+                && r.relation == Relation::On
+                && r.rates.iter().any(|&x| x > 0.0)
+                && relevant.insert(r.landmark.clone())
+            {
+                todo.push(r.landmark.clone());
+            }
+        }
+    }
+    relevant
 }
 
 /// Costs and probabilities of the object-search domain from the conceptual map.
@@ -347,6 +371,7 @@ impl Functions for Probs<'_> {
                 // A hypothesised room: the prior (its category is assumed with the room).
                 None => *m.prior.get(cat(c)?)?,
             },
+            ("p-object-in" | "p-object-on", [l, ..]) if !self.snap.relevant.contains(*l) => 0.0,
             ("p-object-in", [l, r, c]) => {
                 let k = cat(c)?;
                 match self.snap.rooms.get(*r) {
@@ -362,7 +387,9 @@ impl Functions for Probs<'_> {
             ("p-detect", [_]) => self.p_detect,
             _ => return None,
         };
-        Some(if p.is_finite() {
+        Some(if p == 0.0 {
+            0.0
+        } else if p.is_finite() {
             p.clamp(P_MIN, 1.0)
         } else {
             P_MIN
@@ -1164,6 +1191,7 @@ impl Agent {
                 p = p.fact(&format!("landmark({})", c.name));
             }
         }
+        s.relevant = relevant_classes(&self.knowledge, goal);
         for (r, _) in wm.rooms() {
             let n = format!("room{}", r.0);
             p = p
@@ -2483,3 +2511,59 @@ const VERIFY_HITS: usize = 2;
 const VERIFY_BEARINGS: usize = 16;
 /// Guard on the number of DT decisions per session.
 const MAX_DT_STEPS: usize = 60;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn office() -> Knowledge {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../knowledge/office.yaml");
+        avs_format::load_yaml(std::path::Path::new(path)).unwrap()
+    }
+
+    fn set(names: &[&str]) -> BTreeSet<String> {
+        names.iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn relevant_classes_are_the_goal_and_the_landmarks_it_lies_on() {
+        let k = office();
+        // office.yaml: cereal boxes lie on tables and counters (and *in* shelves, which the
+        // domain's on-landmark search does not use); staplers on desks; markers on tables
+        // and desks.
+        assert_eq!(
+            relevant_classes(&k, "cerealbox"),
+            set(&["cerealbox", "counter", "table"])
+        );
+        assert_eq!(relevant_classes(&k, "stapler"), set(&["desk", "stapler"]));
+        assert_eq!(
+            relevant_classes(&k, "whiteboardmarker"),
+            set(&["desk", "table", "whiteboardmarker"])
+        );
+        assert_eq!(relevant_classes(&k, "table"), set(&["table"]));
+    }
+
+    #[test]
+    fn relevance_follows_landmarks_on_landmarks() {
+        let mut k = office();
+        // Made up: cereal boxes only on mugs; then the landmarks mugs lie on become relevant
+        // (table and desk in office.yaml), but not counters, where mugs have rate 0 here.
+        k.landmark_rates.retain(|r| r.object != "cerealbox");
+        k.landmark_rates.push(avs_format::knowledge::LandmarkRate {
+            object: "cerealbox".into(),
+            relation: avs_format::knowledge::Relation::On,
+            landmark: "mug".into(),
+            rates: vec![0.0, 0.1, 0.0],
+        });
+        k.landmark_rates.push(avs_format::knowledge::LandmarkRate {
+            object: "mug".into(),
+            relation: avs_format::knowledge::Relation::On,
+            landmark: "counter".into(),
+            rates: vec![0.0, 0.0, 0.0],
+        });
+        assert_eq!(
+            relevant_classes(&k, "cerealbox"),
+            set(&["cerealbox", "desk", "mug", "table"])
+        );
+    }
+}

@@ -34,6 +34,10 @@
 //!   40-place benchmark — at about a third of the cost per state).
 //!   Child states are queued with the admissible estimate max(0, h(parent) − cost(a)) and
 //!   evaluated when popped (deferred evaluation).
+//! * **Relevance.** The search drops operators that cannot contribute to a plan with
+//!   p ≥ `min_probability` ([`Task::relevant_operators`](task::Task::relevant_operators):
+//!   backward relevance on facts, after the translator of Fast Downward) and maps the plan
+//!   back; exact, as the property tests check against brute force.
 //! * **Duplicates.** Per state the Pareto set of (cost, ln p) labels is kept; see [`search`](mod@search).
 //! * **Virtual objects.** A parameter `?o: new T` binds the next unused object of the pool of T
 //!   (`new-object1`, then `new-object2`, …); the monitor matches a virtual object to the real

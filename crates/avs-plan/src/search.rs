@@ -231,10 +231,32 @@ pub fn search(task: &Task, opts: &SearchOptions) -> Result<(Option<Plan>, Search
             opts.min_probability
         )));
     }
-    match opts.mode {
-        Mode::Fast => gbfs(task, opts),
-        _ => astar(task, opts),
-    }
+    // Search the operators that can contribute to a plan likely enough (exact: see
+    // `Task::relevant_operators`) and map the plan back to `task`'s indices.
+    let keep = task.relevant_operators(opts.min_probability);
+    let pruned;
+    let t = if keep.len() < task.operators.len() {
+        pruned = Task {
+            variables: task.variables.clone(),
+            init: task.init.clone(),
+            goal: task.goal.clone(),
+            operators: keep.iter().map(|&i| task.operators[i].clone()).collect(),
+        };
+        &pruned
+    } else {
+        task
+    };
+    let (plan, stats) = match opts.mode {
+        Mode::Fast => gbfs(t, opts)?,
+        _ => astar(t, opts)?,
+    };
+    let plan = plan.map(|mut p| {
+        for s in &mut p.steps {
+            *s = keep[*s];
+        }
+        p
+    });
+    Ok((plan, stats))
 }
 
 fn astar(task: &Task, opts: &SearchOptions) -> Result<(Option<Plan>, SearchStats), PlanError> {

@@ -85,6 +85,69 @@ impl Task {
         self.goal.iter().all(|&(v, x)| state[v as usize] == x)
     }
 
+    /// The operators that can contribute to the goal: backward relevance analysis on facts
+    /// (as in Helmert's translator, *Concise finite-domain representations for PDDL planning
+    /// tasks*, AIJ 2009, §6, here on facts rather than variables). A fact is relevant when it is
+    /// a goal fact or a precondition of a relevant operator; an operator is relevant when it
+    /// adds a relevant fact. Operators whose success probability is below `min_probability`
+    /// are left out from the start (a plan containing one is less likely than that). Returns
+    /// the relevant operators' indices, ascending.
+    ///
+    /// Dropping the other operators loses no plan quality: in any plan, the subsequence of
+    /// relevant operators is itself a plan (every precondition of a relevant operator, and every
+    /// goal fact, was last written by a relevant operator or holds initially, since an operator
+    /// only writes facts through its effects), with no more cost and no less probability.
+    pub fn relevant_operators(&self, min_probability: f64) -> Vec<usize> {
+        let offsets: Vec<usize> = self
+            .variables
+            .iter()
+            .scan(0, |n, v| {
+                let o = *n;
+                *n += v.values.len();
+                Some(o)
+            })
+            .collect();
+        let n_facts = self.variables.iter().map(|v| v.values.len()).sum();
+        let fact = |(v, x): (Var, Val)| offsets[v as usize] + x as usize;
+        let mut adders: Vec<Vec<usize>> = vec![Vec::new(); n_facts];
+        for (i, o) in self.operators.iter().enumerate() {
+            if o.prob < min_probability {
+                continue;
+            }
+            for &e in &o.eff {
+                adders[fact(e)].push(i);
+            }
+        }
+        let mut relevant_fact = vec![false; n_facts];
+        let mut relevant_op = vec![false; self.operators.len()];
+        let mut stack: Vec<usize> = Vec::new();
+        for &g in &self.goal {
+            let f = fact(g);
+            if !relevant_fact[f] {
+                relevant_fact[f] = true;
+                stack.push(f);
+            }
+        }
+        while let Some(f) = stack.pop() {
+            for &o in &adders[f] {
+                if relevant_op[o] {
+                    continue;
+                }
+                relevant_op[o] = true;
+                for &p in &self.operators[o].pre {
+                    let pf = fact(p);
+                    if !relevant_fact[pf] {
+                        relevant_fact[pf] = true;
+                        stack.push(pf);
+                    }
+                }
+            }
+        }
+        (0..self.operators.len())
+            .filter(|&i| relevant_op[i])
+            .collect()
+    }
+
     /// Check internal consistency (indices in range, probabilities in (0,1], costs ≥ 0 and finite).
     pub fn check(&self) -> Result<(), crate::PlanError> {
         let bad = |m: String| Err(crate::PlanError::InvalidTask(m));
@@ -252,4 +315,64 @@ pub fn validate_sas(task: &Task, steps: &[usize]) -> Result<Validated, InvalidPl
         }
     }
     Ok(Validated { cost, probability })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn op(name: &str, pre: &[(Var, Val)], eff: &[(Var, Val)], prob: f64) -> Operator {
+        Operator {
+            schema: name.into(),
+            args: vec![],
+            display: name.into(),
+            pre: pre.to_vec(),
+            eff: eff.to_vec(),
+            cost: 1.0,
+            prob,
+            assumption: prob < 1.0,
+        }
+    }
+
+    /// Variables a, b, c with values 0/1; the goal is a = 1.
+    fn task(operators: Vec<Operator>) -> Task {
+        let var = |n: &str| Variable {
+            name: n.into(),
+            values: vec!["0".into(), "1".into()],
+        };
+        Task {
+            variables: vec![var("a"), var("b"), var("c")],
+            init: vec![0, 0, 0],
+            goal: vec![(0, 1)],
+            operators,
+        }
+    }
+
+    #[test]
+    fn operators_that_cannot_lead_to_the_goal_are_not_relevant() {
+        let t = task(vec![
+            op("set-c", &[], &[(2, 1)], 1.0),          // c = 1: nothing needs it
+            op("set-b", &[(2, 1)], &[(1, 1)], 1.0),    // b = 1 from c = 1
+            op("a-from-b", &[(1, 1)], &[(0, 1)], 1.0), // the goal from b = 1
+            op("reset-a", &[], &[(0, 0)], 1.0),        // a = 0 is never needed
+        ]);
+        // c = 1 is needed by set-b, which is needed by a-from-b: all three are relevant.
+        assert_eq!(t.relevant_operators(0.0), vec![0, 1, 2]);
+        let u = task(vec![
+            op("set-c", &[], &[(2, 1)], 1.0),
+            op("a", &[], &[(0, 1)], 1.0),
+        ]);
+        assert_eq!(u.relevant_operators(0.0), vec![1]);
+    }
+
+    #[test]
+    fn operators_less_likely_than_the_threshold_are_left_out_with_what_only_they_need() {
+        let t = task(vec![
+            op("unlikely", &[(1, 1)], &[(0, 1)], 0.01), // the goal, but p = 0.01
+            op("set-b", &[], &[(1, 1)], 1.0),           // only needed by `unlikely`
+            op("likely", &[], &[(0, 1)], 0.5),
+        ]);
+        assert_eq!(t.relevant_operators(0.0), vec![0, 1, 2]);
+        assert_eq!(t.relevant_operators(0.1), vec![2]);
+    }
 }

@@ -5,9 +5,10 @@ use avs_plan::task::{Operator, Task, Variable};
 use avs_plan::{search, validate_sas, Heuristic, Mode, SearchOptions};
 use proptest::prelude::*;
 
-/// Minimum of cost + R(1 − p) over all plans, by depth-first enumeration of paths without
-/// repeated states (a repeated state never helps: costs ≥ 0 and probabilities ≤ 1).
-fn brute_force(task: &Task, reward: f64) -> Option<f64> {
+/// Minimum of cost + R(1 − p) over all plans with p ≥ `theta`, by depth-first enumeration of
+/// paths without repeated states (a repeated state never helps: costs ≥ 0 and probabilities ≤ 1).
+fn brute_force(task: &Task, reward: f64, theta: f64) -> Option<f64> {
+    #[allow(clippy::too_many_arguments)]
     fn dfs(
         t: &Task,
         s: &[u32],
@@ -15,8 +16,12 @@ fn brute_force(task: &Task, reward: f64) -> Option<f64> {
         c: f64,
         p: f64,
         r: f64,
+        theta: f64,
         best: &mut Option<f64>,
     ) {
+        if p < theta {
+            return;
+        }
         if t.is_goal(s) {
             let j = c + r * (1.0 - p);
             if !matches!(*best, Some(b) if b <= j) {
@@ -33,7 +38,7 @@ fn brute_force(task: &Task, reward: f64) -> Option<f64> {
                     continue;
                 }
                 seen.push(n.clone());
-                dfs(t, &n, seen, c + o.cost, p * o.prob, r, best);
+                dfs(t, &n, seen, c + o.cost, p * o.prob, r, theta, best);
                 seen.pop();
             }
         }
@@ -41,7 +46,7 @@ fn brute_force(task: &Task, reward: f64) -> Option<f64> {
     let mut best = None;
     let s = task.init.clone();
     let mut seen = vec![s.clone()];
-    dfs(task, &s, &mut seen, 0.0, 1.0, reward, &mut best);
+    dfs(task, &s, &mut seen, 0.0, 1.0, reward, theta, &mut best);
     best
 }
 
@@ -99,7 +104,7 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
     #[test]
     fn optimal_objective_equals_brute_force(task in arb_task(), reward in prop::sample::select(vec![0.0, 5.0, 40.0])) {
-        let expect = brute_force(&task, reward);
+        let expect = brute_force(&task, reward, 0.0);
         for (mode, heuristic) in [(Mode::Optimal, Heuristic::LmCut), (Mode::Optimal, Heuristic::HMax), (Mode::Blind, Heuristic::LmCut)] {
             let (plan, _) = search(&task, &SearchOptions { mode, heuristic, reward, ..Default::default() }).unwrap();
             match (&plan, expect) {
@@ -118,6 +123,24 @@ proptest! {
         if let (Some(f), Some(e)) = (fast, expect) {
             prop_assert!(validate_sas(&task, &f.steps).is_ok());
             prop_assert!(f.objective >= e - 1e-9);
+        }
+    }
+
+    #[test]
+    fn a_success_threshold_gives_the_best_plan_at_least_that_likely(task in arb_task(), theta in prop::sample::select(vec![0.05, 0.2, 0.5])) {
+        let reward = 40.0;
+        let expect = brute_force(&task, reward, theta - 1e-12);
+        for heuristic in [Heuristic::LmCut, Heuristic::HMax] {
+            let opts = SearchOptions { heuristic, reward, min_probability: theta, ..Default::default() };
+            let (plan, _) = search(&task, &opts).unwrap();
+            match (&plan, expect) {
+                (None, None) => {}
+                (Some(p), Some(e)) => {
+                    prop_assert!(p.probability >= theta - 1e-12);
+                    prop_assert!((p.objective - e).abs() < 1e-9, "{heuristic:?}: {} vs brute force {e}", p.objective);
+                }
+                _ => prop_assert!(false, "{heuristic:?}: plan {:?} vs brute force {:?}", plan, expect),
+            }
         }
     }
 }
@@ -169,5 +192,5 @@ fn reward_trades_cost_against_success_probability() {
     // J(cheap) = 1 + 0.8 R, J(dear) = 10 + 0.1 R: cheap wins below R = 9/0.7.
     assert_eq!(pick(5.0), "CHEAP");
     assert_eq!(pick(20.0), "DEAR");
-    assert!(brute_force(&task, 20.0).is_some_and(|j| (j - 12.0).abs() < 1e-9));
+    assert!(brute_force(&task, 20.0, 0.0).is_some_and(|j| (j - 12.0).abs() < 1e-9));
 }
