@@ -343,6 +343,16 @@ fn relevant_classes(knowledge: &Knowledge, goal: &str) -> BTreeSet<String> {
     relevant
 }
 
+/// Whether a sighting of `class` at `pos` is a known look-alike: verification failed at least
+/// [`REJECTIONS_TO_IGNORE`] times within [`CONFIRM_RADIUS`] of it.
+fn is_look_alike(rejected: &[(String, [f64; 2])], class: &str, pos: [f64; 2]) -> bool {
+    rejected
+        .iter()
+        .filter(|(c, p)| c == class && dist(*p, pos) < CONFIRM_RADIUS)
+        .count()
+        >= REJECTIONS_TO_IGNORE
+}
+
 /// Costs and probabilities of the object-search domain from the conceptual map.
 struct Probs<'a> {
     snap: &'a Snapshot,
@@ -417,8 +427,9 @@ struct State {
     extra_ids: Vec<u64>,
     /// The plan place the robot last moved to, with its position.
     last_target: Option<(String, [f64; 2])>,
-    /// Sightings a closer look did not confirm: (class, position). Later sightings of the
-    /// class there are the same look-alike and are ignored.
+    /// Sightings a closer look did not confirm: (class, position), one entry per failed
+    /// verification. Sightings of the class where [`REJECTIONS_TO_IGNORE`] verifications failed
+    /// are taken for a look-alike and ignored.
     rejected: Vec<(String, [f64; 2])>,
     /// The robot's position as last seen.
     at: [f64; 2],
@@ -2416,13 +2427,11 @@ impl Agent {
     /// agent already knows).
     fn detection_in(&self, d: &crate::robot::Detection, loc: ConeLoc, from: Pose2D) -> bool {
         let st = self.state();
-        let known =
-            st.objects
-                .iter()
-                .any(|o| o.class == d.class && o.pos.planar_distance(d.pose.x, d.pose.y) < 0.8)
-                || st.rejected.iter().any(|(c, p)| {
-                    *c == d.class && d.pose.planar_distance(p[0], p[1]) < CONFIRM_RADIUS
-                });
+        let known = st
+            .objects
+            .iter()
+            .any(|o| o.class == d.class && o.pos.planar_distance(d.pose.x, d.pose.y) < 0.8)
+            || is_look_alike(&st.rejected, &d.class, [d.pose.x, d.pose.y]);
         match loc {
             ConeLoc::On(k) => {
                 let o = &st.objects[k];
@@ -2507,6 +2516,10 @@ const CONFIRM_RADIUS: f64 = 0.6;
 const VERIFY_LOOKS: usize = 3;
 /// See [`VERIFY_LOOKS`].
 const VERIFY_HITS: usize = 2;
+/// Sightings of a class where verification failed this many times are ignored from then on
+/// (a look-alike). One failure is not enough: a real object fails a verification one time in
+/// ten, and ignoring it for good lost targets for good (see the crate docs, "Look-alikes").
+const REJECTIONS_TO_IGNORE: usize = 2;
 /// Bearings around a sighting tried as verification viewpoints.
 const VERIFY_BEARINGS: usize = 16;
 /// Guard on the number of DT decisions per session.
@@ -2523,6 +2536,18 @@ mod tests {
 
     fn set(names: &[&str]) -> BTreeSet<String> {
         names.iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn a_sighting_is_ignored_only_where_verification_failed_twice() {
+        let mut rejected = vec![("cerealbox".to_string(), [1.0, 1.0])];
+        // One failed verification: a real object fails one in ten, so look again.
+        assert!(!is_look_alike(&rejected, "cerealbox", [1.1, 1.0]));
+        rejected.push(("cerealbox".to_string(), [1.2, 1.1]));
+        assert!(is_look_alike(&rejected, "cerealbox", [1.1, 1.0]));
+        // Other classes and other places are not affected.
+        assert!(!is_look_alike(&rejected, "mug", [1.1, 1.0]));
+        assert!(!is_look_alike(&rejected, "cerealbox", [2.0, 1.0]));
     }
 
     #[test]
