@@ -2058,7 +2058,17 @@ impl Agent {
         let mut steps = 0;
         let mut looked_share = 0.0;
         if !set.views.is_empty() {
-            let weights = vec![1.0; set.n_points];
+            // The prior is spread over the points the cones cover: the plan assumes the object
+            // is in the location where a search finds it. Over all points, a room whose cones
+            // covered 40% put 60% of the object in places no look can reach, the session
+            // declared "absent" after one look, the rate was hardly thinned, and the planner
+            // sent the robot to the same session again until its plan budget ran out.
+            let mut weights = vec![0.0; set.n_points];
+            for &i in set.cells.iter().flatten() {
+                if let Some(w) = weights.get_mut(i) {
+                    *w = 1.0;
+                }
+            }
             let prior = cone_priors(&set.cells, &weights, p_loc.clamp(0.0, 1.0));
             let here = robot.pose();
             let positions: Vec<[f64; 2]> =

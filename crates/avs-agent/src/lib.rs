@@ -77,7 +77,9 @@
 //! * **SEARCHFOROBJECT** runs a closed-loop view-cone POMDP session (`002` §II-A.2) over the
 //!   cones of CREATEVIEWCONES (greedy coverage, Sjöö et al. `004` §2.1, with line of sight on
 //!   the known map stopping short of furniture footprints). The prior P(ObjectAt L) is spread
-//!   uniformly over the location's points; for an object the plan assumes, it is floored at 0.8
+//!   uniformly over the location's points the cones cover (spread over all points, a room
+//!   covered to 40% was declared empty after one look, hardly thinned, and searched again and
+//!   again until the plan budget ran out); for an object the plan assumes, it is floored at 0.8
 //!   (the plan runs the session because it assumes the object there). A failed search thins the
 //!   location's rate by q = (1 − FN) × covered share. View planning counts a point as covered
 //!   only in the central 75% of the image (towards the border the detector's confidence falls
