@@ -882,6 +882,20 @@ impl Agent {
     /// The room a point lies in: the room of its cell as of the last sync (`None` for space no
     /// room reaches, such as a room seen through its door but not entered); the room of the
     /// nearest place before the first sync.
+    /// The room most of `points` lie in now (ties: the lower id).
+    fn majority_room(&self, points: &[[f64; 3]]) -> Option<RoomId> {
+        let mut votes: BTreeMap<RoomId, usize> = BTreeMap::new();
+        for p in points {
+            if let Some(r) = self.room_at([p[0], p[1]]) {
+                *votes.entry(r).or_default() += 1;
+            }
+        }
+        votes
+            .into_iter()
+            .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)))
+            .map(|(r, _)| r)
+    }
+
     fn room_at(&self, p: [f64; 2]) -> Option<RoomId> {
         let st = self.state();
         let (c, r) = st.grid.world_to_cell(p[0], p[1]);
@@ -2282,6 +2296,18 @@ impl Agent {
                 // Thinning by what was looked at: the processed cones' share of the location.
                 let q =
                     ((1.0 - self.knowledge.sensor.false_negative) * looked_share).clamp(0.0, 0.99);
+                // The place map may have re-drawn the rooms while the robot moved between the
+                // cones (a door found or lost): the searched room is then the room that holds
+                // most of the searched points now.
+                let location = match location {
+                    Location::Room(r) if !self.state().wm.rooms().any(|(id, _)| id == r) => {
+                        match self.majority_room(&set.points) {
+                            Some(now) => Location::Room(now),
+                            None => location,
+                        }
+                    }
+                    l => l,
+                };
                 if q > 0.0 {
                     self.state_mut()
                         .wm

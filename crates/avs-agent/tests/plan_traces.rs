@@ -517,6 +517,17 @@ fn check_properties(sc: &Scenario, out: &Outcome) -> Vec<String> {
     let r = out.main();
     let t = &r.trace;
     let mut bad = Vec::new();
+    // In every scenario: a search's result is always filed in the world model, even when the
+    // place map re-drew the searched room meanwhile.
+    for (goal, rep) in &out.reports {
+        for e in &rep.trace {
+            if let Event::PlanMade { reason, .. } = e {
+                if reason.contains("world model refused") {
+                    bad.push(format!("search for {goal}: replanned because {reason}"));
+                }
+            }
+        }
+    }
     if let Some(want) = x.found {
         if r.found.is_some() != want {
             bad.push(format!(
