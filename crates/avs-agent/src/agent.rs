@@ -360,6 +360,10 @@ struct Probs<'a> {
     p_detect: f64,
 }
 
+/// Probabilities from the conceptual map are kept at least this large (a posterior that
+/// rounds to nothing still allows a plan); an exact 0 (a rate of 0 in the knowledge, a class
+/// that cannot lead to the goal, a placeholder known to lead nowhere) stays 0 and the operator
+/// is not grounded.
 const P_MIN: f64 = 1e-6;
 
 impl Functions for Probs<'_> {
