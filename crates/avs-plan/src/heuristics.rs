@@ -55,12 +55,7 @@ pub struct Relaxed {
 impl Relaxed {
     /// Build the relaxation of `task`.
     pub fn new(task: &Task) -> Self {
-        let mut offsets = Vec::with_capacity(task.variables.len());
-        let mut n = 0;
-        for v in &task.variables {
-            offsets.push(n);
-            n += v.values.len();
-        }
+        let (offsets, n) = task.fact_offsets();
         let top = n;
         let goal_fact = n + 1;
         let n_facts = n + 2;

@@ -85,6 +85,17 @@ impl Task {
         self.goal.iter().all(|&(v, x)| state[v as usize] == x)
     }
 
+    /// Fact numbering: fact `(v, x)` is `offsets[v] + x`; also the number of facts.
+    pub(crate) fn fact_offsets(&self) -> (Vec<usize>, usize) {
+        let mut offsets = Vec::with_capacity(self.variables.len());
+        let mut n = 0;
+        for v in &self.variables {
+            offsets.push(n);
+            n += v.values.len();
+        }
+        (offsets, n)
+    }
+
     /// The operators that can contribute to the goal: backward relevance analysis on facts
     /// (as in Helmert's translator, *Concise finite-domain representations for PDDL planning
     /// tasks*, AIJ 2009, §6, here on facts rather than variables). A fact is relevant when it is
@@ -98,16 +109,7 @@ impl Task {
     /// goal fact, was last written by a relevant operator or holds initially, since an operator
     /// only writes facts through its effects), with no more cost and no less probability.
     pub fn relevant_operators(&self, min_probability: f64) -> Vec<usize> {
-        let offsets: Vec<usize> = self
-            .variables
-            .iter()
-            .scan(0, |n, v| {
-                let o = *n;
-                *n += v.values.len();
-                Some(o)
-            })
-            .collect();
-        let n_facts = self.variables.iter().map(|v| v.values.len()).sum();
+        let (offsets, n_facts) = self.fact_offsets();
         let fact = |(v, x): (Var, Val)| offsets[v as usize] + x as usize;
         let mut adders: Vec<Vec<usize>> = vec![Vec::new(); n_facts];
         for (i, o) in self.operators.iter().enumerate() {
