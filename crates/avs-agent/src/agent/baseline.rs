@@ -11,23 +11,35 @@
 //!   goes to the nearest placeholder, and covers the room it stands in, the same way, the first
 //!   time it finds itself in a room not yet covered.
 //!
+//! The same coverage loop is the switching planner's last resort: when the most promising plan
+//! falls below the success threshold (or the plan budget is spent), the knowledge has been
+//! wrong or the target is where it says little; with [`AgentConfig::cover_before_giving_up`]
+//! the agent then covers, nearest first, what its sessions have not looked at yet, and gives
+//! up only when nothing is left (the reason names both).
+//!
 //! Choices where the sources leave room: a detection counts only when the planner's own
 //! verification step confirms it (a closer look centred on it, `Agent::verify`), so that all
 //! three strategies report on the same evidence; a room counts as
-//! covered when 80% (`COVERED_SHARE`) of its points were in processed views (or no view can see
-//! the rest); the search gives up when no room is left uncovered and no placeholder is left.
+//! covered when 80% (`COVERED_SHARE`) of its points were in processed views; its views are
+//! planned again for the points not yet covered (a room may need more than the POMDP's
+//! [`AgentConfig::max_cones`]) until that holds or no view can see the rest; the search gives
+//! up when no room is left uncovered and no placeholder is left.
 
 use super::*;
 
 /// A room whose processed views covered this share of its points is done.
 const COVERED_SHARE: f64 = 0.8;
+/// Coverage looks on the floor too (not only on the surfaces the knowledge names).
+const COVER_FLOOR: bool = true;
 /// Points are remembered as covered on this grid, metres.
 const KEY_RES: f64 = 0.1;
 
-fn key(p: [f64; 3]) -> (i64, i64) {
+/// The key of a point in the set of covered points.
+pub(super) fn key(p: [f64; 3]) -> (i64, i64, i64) {
     (
         (p[0] / KEY_RES).round() as i64,
         (p[1] / KEY_RES).round() as i64,
+        (p[2] / KEY_RES).round() as i64,
     )
 }
 
@@ -35,7 +47,13 @@ fn key(p: [f64; 3]) -> (i64, i64) {
 enum Next {
     Cover(RoomId),
     Explore(String, [f64; 2]),
+    /// Go to known free space that no room holds (seen through a door that was never crossed,
+    /// with no placeholder left to lead there), so that the place map makes a room of it.
+    Visit([f64; 2]),
 }
+
+/// Known free space outside every room counts when at least this far from every place, metres.
+const OUTSIDE_ROOMS_MIN: f64 = 1.5;
 
 impl Agent {
     /// The executive of the baselines.
@@ -46,30 +64,90 @@ impl Agent {
         strategy: Strategy,
         run: &mut Run,
     ) -> Result<(Option<FoundObject>, String), AgentError> {
+        Ok(match self.cover_all(robot, goal, strategy, 1, run)? {
+            Ok(f) => {
+                let r = run.goal_reached(&f);
+                (Some(f), r)
+            }
+            Err(r) => (None, run.give_up(r)),
+        })
+    }
+
+    /// Cover rooms and explore placeholders by `strategy` until the goal's class is found
+    /// (`Ok`) or nothing is left or the action budget is spent (`Err` with the reason). Points
+    /// already in `run.covered` are not looked at again.
+    pub(super) fn cover_all<R: Robot + ?Sized>(
+        &mut self,
+        robot: &mut R,
+        goal: &Goal,
+        strategy: Strategy,
+        passes: usize,
+        run: &mut Run,
+    ) -> Result<Result<FoundObject, String>, AgentError> {
         let Some(class) = self.knowledge.class(&goal.class).cloned() else {
-            return Ok((None, format!("unknown class {}", goal.class)));
+            return Ok(Err(format!("unknown class {}", goal.class)));
         };
-        let mut covered: BTreeSet<(i64, i64)> = BTreeSet::new();
+        let mut pass = 1;
         loop {
             if run.metrics.actions >= self.config.max_actions {
-                let r = format!(
+                return Ok(Err(format!(
                     "gave up after {} actions without finding a {}",
                     run.metrics.actions, goal.class
-                );
-                return Ok((None, run.give_up(r)));
+                )));
             }
-            let Some(next) = self.baseline_next(robot, &class, strategy, &covered) else {
-                let r = format!(
-                    "every reachable room was covered and no placeholder is left: no {} found",
+            let next = self
+                .baseline_next(robot, &class, strategy, &run.covered)
+                .or_else(|| self.outside_rooms(robot, &run.visited).map(Next::Visit));
+            let Some(next) = next else {
+                if pass < passes {
+                    pass += 1;
+                    run.covered.clear();
+                    run.emit(Event::Observed {
+                        what: format!("every reachable room was covered: covering again (pass {pass} of {passes})"),
+                    });
+                    continue;
+                }
+                let times = match passes {
+                    1 => String::new(),
+                    2 => " twice".to_string(),
+                    n => format!(" {n} times"),
+                };
+                return Ok(Err(format!(
+                    "every reachable room was covered{times} and no placeholder is left: no {} found",
                     goal.class
-                );
-                return Ok((None, run.give_up(r)));
+                )));
             };
             match next {
                 Next::Cover(room) => {
-                    if let Some(f) = self.cover_room(robot, goal, room, &mut covered, run)? {
-                        let r = run.goal_reached(&f);
-                        return Ok((Some(f), r));
+                    if let Some(f) = self.cover_room(robot, goal, room, run)? {
+                        return Ok(Ok(f));
+                    }
+                }
+                Next::Visit(pos) => {
+                    let action = format!("VISIT ({:.2}, {:.2})", pos[0], pos[1]);
+                    run.metrics.actions += 1;
+                    run.visited.push(pos);
+                    run.emit(Event::ActionStarted {
+                        action: action.clone(),
+                    });
+                    let outcome = match self.go_to(robot, pos)? {
+                        Ok(()) => "ok".to_string(),
+                        Err(e) => e,
+                    };
+                    self.sync()?;
+                    run.emit(Event::ActionFinished {
+                        action,
+                        outcome,
+                        pose: pose3(robot.pose()),
+                        path_length: robot.odometry(),
+                    });
+                    if matches!(self.current_room(), Some(r) if !self.state().looked.contains(&r.0))
+                    {
+                        if let Err(e) = self.look_around(robot, run) {
+                            run.emit(Event::Observed {
+                                what: format!("looking around failed: {e}"),
+                            });
+                        }
                     }
                 }
                 Next::Explore(name, pos) => {
@@ -108,9 +186,9 @@ impl Agent {
         &self,
         r: RoomId,
         class: &avs_format::knowledge::ObjectClass,
-        covered: &BTreeSet<(i64, i64)>,
+        covered: &BTreeSet<(i64, i64, i64)>,
     ) -> f64 {
-        let pts = self.room_points(r.0, class);
+        let pts = self.room_points(r.0, class, COVER_FLOOR);
         if pts.is_empty() {
             return 0.0;
         }
@@ -134,7 +212,7 @@ impl Agent {
         robot: &R,
         class: &avs_format::knowledge::ObjectClass,
         strategy: Strategy,
-        covered: &BTreeSet<(i64, i64)>,
+        covered: &BTreeSet<(i64, i64, i64)>,
     ) -> Option<Next> {
         let here = robot.pose();
         let at = [here.x, here.y];
@@ -144,6 +222,16 @@ impl Agent {
             .filter(|&r| self.uncovered(r, class, covered) > 1.0 - COVERED_SHARE)
             .filter_map(|r| Some((r, self.room_distance(at, r)?)))
             .collect();
+        tracing::debug!(
+            rooms = ?self
+                .state()
+                .wm
+                .rooms()
+                .map(|(r, _)| (r.0, self.uncovered(r, class, covered), self.room_points(r.0, class, COVER_FLOOR).len()))
+                .collect::<Vec<_>>(),
+            pending = ?pending,
+            "coverage: rooms left"
+        );
         let nearest_room = pending
             .iter()
             .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
@@ -175,35 +263,121 @@ impl Agent {
         }
     }
 
+    /// The nearest reachable known free cell that no room holds, at least
+    /// [`OUTSIDE_ROOMS_MIN`] from every place and from every point in `visited`.
+    fn outside_rooms<R: Robot + ?Sized>(
+        &self,
+        robot: &R,
+        visited: &[[f64; 2]],
+    ) -> Option<[f64; 2]> {
+        let st = self.state();
+        let grid = &st.grid;
+        let trav = Traversability::new(grid, self.config.robot_radius, false);
+        let places: Vec<[f64; 2]> = st.wm.places.graph.node_weights().map(|p| p.pos).collect();
+        let here = robot.pose();
+        let at = [here.x, here.y];
+        let step = (POINT_SPACING / grid.resolution()).round().max(1.0) as usize;
+        let mut candidates: Vec<([f64; 2], f64)> = Vec::new();
+        for row in (0..grid.height()).step_by(step) {
+            for col in (0..grid.width()).step_by(step) {
+                if grid.get(col, row) != Cell::Free || !trav.ok(col as i64, row as i64) {
+                    continue;
+                }
+                let (x, y) = grid.cell_center(col as i64, row as i64);
+                let p = [x, y];
+                if self.room_at(p).is_some()
+                    || places
+                        .iter()
+                        .chain(visited)
+                        .any(|q| dist(*q, p) < OUTSIDE_ROOMS_MIN)
+                {
+                    continue;
+                }
+                candidates.push((p, dist(at, p)));
+            }
+        }
+        candidates.sort_by(|a, b| a.1.total_cmp(&b.1));
+        candidates
+            .into_iter()
+            .map(|(p, _)| p)
+            .find(|&p| self.path_len(at, p, false).is_some())
+    }
+
     /// Cover room `r` by view planning and process its views nearest-neighbour first; a
-    /// detection confirmed by a second look is the goal.
+    /// detection confirmed by a second look is the goal. The views are planned for the room's
+    /// points not yet covered, again after each pass, until [`COVERED_SHARE`] of them are (or
+    /// no view sees the rest, or a pass covers nothing: the rest is given up on).
     fn cover_room<R: Robot + ?Sized>(
         &mut self,
         robot: &mut R,
         goal: &Goal,
         room: RoomId,
-        covered: &mut BTreeSet<(i64, i64)>,
         run: &mut Run,
     ) -> Result<Option<FoundObject>, AgentError> {
         let label = goal.class.clone();
+        let Some(class) = self.knowledge.class(&label).cloned() else {
+            return Ok(None);
+        };
         let loc = ConeLoc::Room(room.0);
-        self.create_cones(robot, &label, loc, run);
-        let set = self.state().cones[&(label.clone(), loc)].clone();
-        let mut todo: Vec<usize> = (0..set.views.len())
-            .filter(|&v| {
-                set.cells[v]
-                    .iter()
-                    .any(|&i| !covered.contains(&key(set.points[i])))
-            })
-            .collect();
-        run.emit(Event::Observed {
-            what: format!(
-                "covering room{} with {} of {} view cones",
-                room.0,
-                todo.len(),
-                set.views.len()
-            ),
-        });
+        loop {
+            let all = self.room_points(room.0, &class, COVER_FLOOR);
+            let todo: Vec<[f64; 3]> = all
+                .iter()
+                .copied()
+                .filter(|p| !run.covered.contains(&key(*p)))
+                .collect();
+            if todo.len() as f64 <= (1.0 - COVERED_SHARE) * all.len() as f64 {
+                return Ok(None);
+            }
+            let set = self
+                .plan_cones(robot, &label, loc, Some(todo.clone()))
+                .filter(|s| !s.views.is_empty());
+            let Some(set) = set else {
+                // No view sees what is left: the room is done.
+                run.covered.extend(todo.iter().map(|p| key(*p)));
+                return Ok(None);
+            };
+            run.emit(Event::Observed {
+                what: format!(
+                    "covering room{} with {} view cones for {} of its {} points",
+                    room.0,
+                    set.views.len(),
+                    todo.len(),
+                    all.len()
+                ),
+            });
+            let before = run.covered.len();
+            if let Some(f) = self.process_views(robot, &label, loc, &set, run)? {
+                return Ok(Some(f));
+            }
+            if run.metrics.actions >= self.config.max_actions {
+                return Ok(None);
+            }
+            let truncated = set.views.len() >= self.config.max_cones;
+            if run.covered.len() == before || !truncated {
+                // Every view was planned and processed (or none got anywhere): what they did
+                // not cover, no view can.
+                run.covered.extend(todo.iter().map(|p| key(*p)));
+                return Ok(None);
+            }
+        }
+    }
+
+    /// Process `set`'s views nearest-neighbour first, marking their points covered; the first
+    /// detection a closer look confirms is returned.
+    fn process_views<R: Robot + ?Sized>(
+        &mut self,
+        robot: &mut R,
+        label: &str,
+        loc: ConeLoc,
+        set: &ConeSet,
+        run: &mut Run,
+    ) -> Result<Option<FoundObject>, AgentError> {
+        let room = match loc {
+            ConeLoc::Room(r) => format!("room{r}"),
+            ConeLoc::On(k) => format!("object{k}"),
+        };
+        let mut todo: Vec<usize> = (0..set.views.len()).collect();
         while !todo.is_empty() {
             if run.metrics.actions >= self.config.max_actions {
                 return Ok(None);
@@ -222,8 +396,8 @@ impl Agent {
             let view = &set.views[v];
             run.metrics.actions += 1;
             let action = format!(
-                "PROCESSVIEWCONE {label} room{} from ({:.2}, {:.2}) pan {:.2} tilt {:.2}",
-                room.0, view.pose[0], view.pose[1], view.pan, view.tilt
+                "PROCESSVIEWCONE {label} {room} from ({:.2}, {:.2}) pan {:.2} tilt {:.2}",
+                view.pose[0], view.pose[1], view.pan, view.tilt
             );
             run.emit(Event::ActionStarted {
                 action: action.clone(),
@@ -236,9 +410,7 @@ impl Agent {
                 1.0,
             );
             let look = |agent: &Self, robot: &mut R| -> Option<crate::robot::Detection> {
-                let r = robot
-                    .process_view_cone(&vc, std::slice::from_ref(&label))
-                    .ok()?;
+                let r = robot.process_view_cone(&vc, &[label.to_string()]).ok()?;
                 for d in &r.detections {
                     tracing::debug!(
                         class = %d.class,
@@ -246,7 +418,7 @@ impl Agent {
                         y = d.pose.y,
                         confidence = d.confidence,
                         inside = agent.detection_in(d, loc, r.pose),
-                        "baseline view"
+                        "coverage view"
                     );
                 }
                 r.detections
@@ -261,12 +433,13 @@ impl Agent {
                 None
             };
             let confirmed = match first {
-                Some(d) => self.verify(robot, &label, &d, run)?,
+                Some(d) => self.verify(robot, label, &d, run)?,
                 None => None,
             };
             self.state_mut().grid = robot.map_update().grid;
             if moved.is_ok() {
-                covered.extend(set.cells[v].iter().map(|&i| key(set.points[i])));
+                run.covered
+                    .extend(set.cells[v].iter().map(|&i| key(set.points[i])));
             }
             run.emit(Event::ActionFinished {
                 action,
@@ -285,7 +458,7 @@ impl Agent {
                     .or_else(|| self.current_place());
                 if let Some(place) = place {
                     self.state_mut().objects.push(Known {
-                        class: label.clone(),
+                        class: label.to_string(),
                         pos: d.pose,
                         place,
                         landmark: None,
@@ -294,14 +467,12 @@ impl Agent {
                 }
                 return Ok(Some(FoundObject {
                     name: format!("object{k}"),
-                    class: label,
+                    class: label.to_string(),
                     pose: d.pose,
                     confidence: d.confidence,
                 }));
             }
         }
-        // What no view can see is given up on: the room is done.
-        covered.extend(set.points.iter().map(|p| key(*p)));
         Ok(None)
     }
 }
