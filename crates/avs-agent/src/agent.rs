@@ -74,9 +74,10 @@ pub struct AgentConfig {
     pub max_actions: usize,
     /// Detections below this confidence are ignored.
     pub min_confidence: f64,
-    /// A verification look (a closer, centred, zoomed look at a sighting) counts only a
-    /// detection of at least this confidence.
-    pub verify_min_confidence: f64,
+    /// Detections that confirm something count only from this confidence: a verification
+    /// look (closer, centred and zoomed on a sighting), and the agreeing sightings that make a
+    /// landmark in a look-around.
+    pub confirm_min_confidence: f64,
     /// The robot's radius, metres (for the agent's own path planning on the known map).
     pub robot_radius: f64,
     /// Cost of processing one view cone, in the POMDP's reward unit.
@@ -169,8 +170,9 @@ impl Default for AgentConfig {
             min_confidence: 0.2,
             // A verification look is centred on the sighting and made from inside the
             // recognition range, where a real object shows with confidence near 1 − FN = 0.8;
-            // at 0.2 there, a look-alike on an office desk passed for the cerealbox.
-            verify_min_confidence: 0.5,
+            // at 0.2 there, a look-alike on an office desk passed for the cerealbox. Landmarks
+            // are large and seen well; faint sightings only split their clusters.
+            confirm_min_confidence: 0.5,
             robot_radius: 0.25,
             process_cost: 1.0,
             travel_cost_per_m: 0.5,
@@ -542,9 +544,9 @@ impl Agent {
                 "a probability in [0, 1]",
             ),
             (
-                "verify_min_confidence",
-                config.verify_min_confidence,
-                (0.0..=1.0).contains(&config.verify_min_confidence),
+                "confirm_min_confidence",
+                config.confirm_min_confidence,
+                (0.0..=1.0).contains(&config.confirm_min_confidence),
                 "a probability in [0, 1]",
             ),
             (
@@ -1570,7 +1572,7 @@ impl Agent {
                     Ok(r) => dets.extend(
                         r.detections
                             .into_iter()
-                            .filter(|d| d.confidence >= self.config.min_confidence),
+                            .filter(|d| d.confidence >= self.config.confirm_min_confidence),
                     ),
                     Err(_) => failed += 1,
                 }
@@ -1614,7 +1616,7 @@ impl Agent {
                     .map(|r| {
                         r.detections.iter().any(|e| {
                             e.class == d.class
-                                && e.confidence >= self.config.min_confidence
+                                && e.confidence >= self.config.confirm_min_confidence
                                 && e.pose.planar_distance(d.pose.x, d.pose.y) < LOOK_CLUSTER
                         })
                     })
@@ -2551,7 +2553,7 @@ impl Agent {
                         .into_iter()
                         .filter(|e| {
                             e.class == label
-                                && e.confidence >= self.config.verify_min_confidence
+                                && e.confidence >= self.config.confirm_min_confidence
                                 && e.pose.planar_distance(target[0], target[1]) <= CONFIRM_RADIUS
                         })
                         .max_by(|a, b| a.confidence.total_cmp(&b.confidence))

@@ -164,8 +164,9 @@
 //!   look in three (uninformed baseline, bench floors 1–20: success 0.30 at 0.5, 0.60 at 0.2).
 //!   A false alarm's confidence comes from the same geometry, so the threshold never told them
 //!   apart; verification does, and its looks (centred, from inside the recognition range,
-//!   where a real object shows with about 0.8) count only from 0.5 (`verify_min_confidence`):
-//!   at 0.2 a mug on an office desk passed for the cerealbox.
+//!   where a real object shows with about 0.8) count only from 0.5 (`confirm_min_confidence`):
+//!   at 0.2 a mug on an office desk passed for the cerealbox. So do the sightings that make a
+//!   landmark in a look-around (faint ones only split the clusters).
 //! * **Budgets:** at most 30 plans and 250 actions per goal, and 250 more actions for the
 //!   coverage before giving up; then it gives up and says so.
 //! * **Look-alikes.** A sighting that verification rejected is remembered (class, position);
