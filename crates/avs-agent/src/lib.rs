@@ -150,10 +150,10 @@
 //!   threshold (the paper's rule) lost it in most runs: the planner stopped with rooms never
 //!   entered. Off, the agent gives up at once, as in the paper.
 //! * **Search heights.** A small object is looked for in a room at the tops of the landmark
-//!   classes the knowledge puts it on (lowest and highest, plus half its height: 0.89 and
-//!   1.04 m for a cereal box on tables and counters), not at one table height: views planned
-//!   for 0.8 m put a cereal box on a counter at the upper border of the image, where the
-//!   detector's confidence fell below `min_confidence`. Coverage (the baselines and the
+//!   classes the knowledge puts it on (lowest and highest, plus half its height; heights less
+//!   than 0.2 m apart are one, their middle: 0.97 m for a cereal box on tables and counters),
+//!   not at one table height: views planned for 0.8 m put a cereal box on a counter at the
+//!   upper border of the image, where the detector's confidence fell below `min_confidence`. Coverage (the baselines and the
 //!   coverage before giving up) also looks on the floor.
 //!   The coverage goes over the floor twice before giving up: one look finds an object inside
 //!   its planned view with about 0.6–0.8, so one pass missed the target on about one floor in
