@@ -2119,12 +2119,22 @@ impl Agent {
     /// its height), or [`SMALL_OBJECT_Z`] when the knowledge names none; with `floor`, also on
     /// the floor (where the rates "anywhere in a room" may put it).
     fn search_heights(&self, class: &avs_format::knowledge::ObjectClass, floor: bool) -> Vec<f64> {
+        search_heights(&self.knowledge, class, floor)
+    }
+}
+
+/// [`Agent::search_heights`] for `knowledge`.
+fn search_heights(
+    knowledge: &Knowledge,
+    class: &avs_format::knowledge::ObjectClass,
+    floor: bool,
+) -> Vec<f64> {
+    {
         let half = 0.5 * class.size[2];
         if class.landmark {
             return vec![half];
         }
-        let tops: Vec<f64> = self
-            .knowledge
+        let tops: Vec<f64> = knowledge
             .landmark_rates
             .iter()
             .filter(|r| {
@@ -2132,7 +2142,7 @@ impl Agent {
                     && r.relation == Relation::On
                     && r.rates.iter().any(|&x| x > 0.0)
             })
-            .filter_map(|r| self.knowledge.class(&r.landmark))
+            .filter_map(|r| knowledge.class(&r.landmark))
             .map(|l| l.size[2] + half)
             .collect();
         let lo = tops.iter().copied().fold(f64::INFINITY, f64::min);
@@ -2149,7 +2159,9 @@ impl Agent {
         }
         zs
     }
+}
 
+impl Agent {
     /// SEARCHFOROBJECT: a closed-loop view-cone POMDP session over the location's cones
     /// (`002` §II-A.2).
     #[allow(clippy::too_many_arguments)]
@@ -2708,6 +2720,27 @@ mod tests {
 
     fn set(names: &[&str]) -> BTreeSet<String> {
         names.iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn search_heights_are_the_tops_of_the_surfaces_the_knowledge_names() {
+        let k = office();
+        let class = |n: &str| k.class(n).unwrap().clone();
+        // A cereal box lies on tables (0.75 m) and counters (0.9 m); seen at its middle, 0.14 m
+        // up; the two tops are less than HEIGHT_STEP apart: one height, their middle.
+        let cereal = search_heights(&k, &class("cerealbox"), false);
+        assert_eq!(cereal.len(), 1);
+        assert!((cereal[0] - (0.825 + 0.14)).abs() < 1e-9, "{cereal:?}");
+        // With the floor: half its height first.
+        let with_floor = search_heights(&k, &class("cerealbox"), true);
+        assert!((with_floor[0] - 0.14).abs() < 1e-9, "{with_floor:?}");
+        assert_eq!(&with_floor[1..], &cereal[..]);
+        // Furniture is looked for at half its height, with or without the floor.
+        assert_eq!(search_heights(&k, &class("table"), true), vec![0.375]);
+        // A stapler lies on desks only (its desk rate; the shelf is "in").
+        let stapler = search_heights(&k, &class("stapler"), false);
+        assert_eq!(stapler.len(), 1);
+        assert!((stapler[0] - (0.75 + 0.035)).abs() < 1e-9, "{stapler:?}");
     }
 
     #[test]
