@@ -523,6 +523,23 @@ impl Run<'_> {
     }
 }
 
+/// Centres of the free cells of `grid` the robot (of radius `radius`) can stand on, every
+/// `spacing` metres along rows and columns.
+fn standable(grid: &OccupancyGrid, radius: f64, spacing: f64) -> Vec<[f64; 2]> {
+    let trav = Traversability::new(grid, radius, false);
+    let step = (spacing / grid.resolution()).round().max(1.0) as usize;
+    let mut out = Vec::new();
+    for row in (0..grid.height()).step_by(step) {
+        for col in (0..grid.width()).step_by(step) {
+            if grid.get(col, row) == Cell::Free && trav.ok(col as i64, row as i64) {
+                let (x, y) = grid.cell_center(col as i64, row as i64);
+                out.push([x, y]);
+            }
+        }
+    }
+    out
+}
+
 fn pose3(p: Pose2D) -> [f64; 3] {
     [p.x, p.y, p.yaw]
 }
@@ -1150,7 +1167,6 @@ impl Agent {
     /// it so that P_category(placeholder) applies (Aydemir et al. 2011, §III-A.1).
     fn unvisited_areas(&mut self, frontier: &[[f64; 2]]) -> Result<Vec<Cand>, AgentError> {
         let (grid, radius) = (self.state().grid.clone(), self.config.robot_radius);
-        let trav = Traversability::new(&grid, radius, false);
         let res = grid.resolution();
         let places: Vec<[f64; 2]> = {
             let g = &self.state().wm.places.graph;
@@ -1169,95 +1185,87 @@ impl Agent {
                 .map(|(_, d)| d)
                 .fold(f64::INFINITY, f64::min)
         };
-        let step = (1.0 / res).round().max(1.0) as usize;
         let mut picked: Vec<Cand> = Vec::new();
         let mut extra: Vec<(u64, avs_concepts::Placeholder)> = Vec::new();
-        for row in (0..grid.height()).step_by(step) {
-            for col in (0..grid.width()).step_by(step) {
-                if grid.get(col, row) != Cell::Free || !trav.ok(col as i64, row as i64) {
-                    continue;
-                }
-                let (x, y) = grid.cell_center(col as i64, row as i64);
-                let pos = [x, y];
-                if near_place(pos) <= UNVISITED_DIST
-                    || picked.iter().any(|c| dist(c.pos, pos) < UNVISITED_SPACING)
-                {
-                    continue;
-                }
-                let st = self.state();
-                if frontier.iter().any(|f| dist(*f, pos) < 2.0)
-                    || st
-                        .registry
-                        .iter()
-                        .any(|e| e.explored.is_some() && dist(e.pos, pos) < 2.0)
-                {
-                    tracing::debug!(?pos, "unvisited area near a placeholder");
-                    continue;
-                }
-                // Attach to the place it is reached from: of the few nearest places with a
-                // room, the one with the shortest known path (the nearest in a straight line
-                // may be behind a wall).
-                let mut near: Vec<(NodeIndex, f64)> = st
-                    .wm
-                    .places
-                    .graph
-                    .node_indices()
-                    .filter(|&n| st.wm.room_of(n).is_some())
-                    .map(|n| (n, dist(st.wm.places.graph[n].pos, pos)))
-                    .collect();
-                near.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-                let best = near
+        for pos in standable(&grid, radius, 1.0) {
+            if near_place(pos) <= UNVISITED_DIST
+                || picked.iter().any(|c| dist(c.pos, pos) < UNVISITED_SPACING)
+            {
+                continue;
+            }
+            let st = self.state();
+            if frontier.iter().any(|f| dist(*f, pos) < 2.0)
+                || st
+                    .registry
                     .iter()
-                    .take(ATTACH_CANDIDATES)
-                    .filter_map(|&(n, d)| {
-                        let a = st.wm.places.graph[n].pos;
-                        let l = self.known_path_len(a, pos)?;
-                        (l <= 2.0 * d + 2.0).then_some((n, l))
-                    })
-                    .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-                let Some((attach, _)) = best else {
-                    tracing::debug!(?pos, "unvisited area without a short path");
-                    continue;
-                };
-                let Some(room) = st.wm.room_of(attach) else {
-                    continue;
-                };
-                // Unvisited free area within 2.5 m of it.
-                let r = (2.5 / res).ceil() as i64;
-                let (c0, r0) = grid.world_to_cell(x, y);
-                let mut cells = 0usize;
-                for dr in -r..=r {
-                    for dc in -r..=r {
-                        if grid.get_i(c0 + dc, r0 + dr) == Cell::Free {
-                            let (cx, cy) = grid.cell_center(c0 + dc, r0 + dr);
-                            if dist([cx, cy], pos) <= 2.5 && near_place([cx, cy]) > UNVISITED_DIST {
-                                cells += 1;
-                            }
+                    .any(|e| e.explored.is_some() && dist(e.pos, pos) < 2.0)
+            {
+                tracing::debug!(?pos, "unvisited area near a placeholder");
+                continue;
+            }
+            // Attach to the place it is reached from: of the few nearest places with a
+            // room, the one with the shortest known path (the nearest in a straight line
+            // may be behind a wall).
+            let mut near: Vec<(NodeIndex, f64)> = st
+                .wm
+                .places
+                .graph
+                .node_indices()
+                .filter(|&n| st.wm.room_of(n).is_some())
+                .map(|n| (n, dist(st.wm.places.graph[n].pos, pos)))
+                .collect();
+            near.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+            let best = near
+                .iter()
+                .take(ATTACH_CANDIDATES)
+                .filter_map(|&(n, d)| {
+                    let a = st.wm.places.graph[n].pos;
+                    let l = self.known_path_len(a, pos)?;
+                    (l <= 2.0 * d + 2.0).then_some((n, l))
+                })
+                .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+            let Some((attach, _)) = best else {
+                tracing::debug!(?pos, "unvisited area without a short path");
+                continue;
+            };
+            let Some(room) = st.wm.room_of(attach) else {
+                continue;
+            };
+            // Unvisited free area within 2.5 m of it.
+            let r = (2.5 / res).ceil() as i64;
+            let (c0, r0) = grid.world_to_cell(pos[0], pos[1]);
+            let mut cells = 0usize;
+            for dr in -r..=r {
+                for dc in -r..=r {
+                    if grid.get_i(c0 + dc, r0 + dr) == Cell::Free {
+                        let (cx, cy) = grid.cell_center(c0 + dc, r0 + dr);
+                        if dist([cx, cy], pos) <= 2.5 && near_place([cx, cy]) > UNVISITED_DIST {
+                            cells += 1;
                         }
                     }
                 }
-                let door = st
-                    .wm
-                    .places
-                    .doors
-                    .iter()
-                    .map(|d| dist(d.hypothesis.center, pos))
-                    .min_by(f64::total_cmp);
-                let id = EXTRA_BASE + picked.len() as u64;
-                extra.push((
-                    id,
-                    avs_concepts::Placeholder {
-                        room,
-                        open_area_m2: cells as f64 * res * res,
-                        door_distance_m: door,
-                    },
-                ));
-                picked.push(Cand {
-                    pos,
-                    attach,
-                    cm_id: id,
-                });
             }
+            let door = st
+                .wm
+                .places
+                .doors
+                .iter()
+                .map(|d| dist(d.hypothesis.center, pos))
+                .min_by(f64::total_cmp);
+            let id = EXTRA_BASE + picked.len() as u64;
+            extra.push((
+                id,
+                avs_concepts::Placeholder {
+                    room,
+                    open_area_m2: cells as f64 * res * res,
+                    door_distance_m: door,
+                },
+            ));
+            picked.push(Cand {
+                pos,
+                attach,
+                cm_id: id,
+            });
         }
         let st = self.state_mut();
         for id in std::mem::take(&mut st.extra_ids) {
@@ -1974,9 +1982,7 @@ impl Agent {
         let class = self.knowledge.class(label)?;
         let st = self.state();
         let grid = &st.grid;
-        let res = grid.resolution();
         let cam = robot.camera();
-        let trav = Traversability::new(grid, self.config.robot_radius, false);
         let in_room = |x: f64, y: f64, r: u64| self.room_at([x, y]) == Some(RoomId(r));
         let (points, center, reach): (Vec<[f64; 3]>, Option<[f64; 2]>, f64) = match loc {
             ConeLoc::Room(r) => (
@@ -2009,24 +2015,15 @@ impl Agent {
             ConeLoc::Room(_) => POSE_SPACING,
             ConeLoc::On(_) => 0.5 * POSE_SPACING,
         };
-        let step = (spacing / res).round().max(1.0) as usize;
-        let mut poses = Vec::new();
-        for row in (0..grid.height()).step_by(step) {
-            for col in (0..grid.width()).step_by(step) {
-                if grid.get(col, row) != Cell::Free || !trav.ok(col as i64, row as i64) {
-                    continue;
-                }
-                let (x, y) = grid.cell_center(col as i64, row as i64);
-                let ok = match (loc, center) {
-                    (ConeLoc::Room(r), _) => in_room(x, y, r),
-                    (_, Some(c)) => dist([x, y], c) <= reach,
-                    _ => false,
-                };
-                if ok {
-                    poses.push([x, y, 0.0]);
-                }
-            }
-        }
+        let poses: Vec<[f64; 3]> = standable(grid, self.config.robot_radius, spacing)
+            .into_iter()
+            .filter(|&[x, y]| match (loc, center) {
+                (ConeLoc::Room(r), _) => in_room(x, y, r),
+                (_, Some(c)) => dist([x, y], c) <= reach,
+                _ => false,
+            })
+            .map(|[x, y]| [x, y, 0.0])
+            .collect();
         // A point counts as covered only in the central part of the image: towards the border
         // the detector's confidence falls (partly cut-off objects) below `min_confidence`.
         let camera = CameraModel {

@@ -271,31 +271,21 @@ impl Agent {
         visited: &[[f64; 2]],
     ) -> Option<[f64; 2]> {
         let st = self.state();
-        let grid = &st.grid;
-        let trav = Traversability::new(grid, self.config.robot_radius, false);
         let places: Vec<[f64; 2]> = st.wm.places.graph.node_weights().map(|p| p.pos).collect();
         let here = robot.pose();
         let at = [here.x, here.y];
-        let step = (POINT_SPACING / grid.resolution()).round().max(1.0) as usize;
-        let mut candidates: Vec<([f64; 2], f64)> = Vec::new();
-        for row in (0..grid.height()).step_by(step) {
-            for col in (0..grid.width()).step_by(step) {
-                if grid.get(col, row) != Cell::Free || !trav.ok(col as i64, row as i64) {
-                    continue;
-                }
-                let (x, y) = grid.cell_center(col as i64, row as i64);
-                let p = [x, y];
-                if self.room_at(p).is_some()
-                    || places
-                        .iter()
-                        .chain(visited)
-                        .any(|q| dist(*q, p) < OUTSIDE_ROOMS_MIN)
-                {
-                    continue;
-                }
-                candidates.push((p, dist(at, p)));
-            }
-        }
+        let mut candidates: Vec<([f64; 2], f64)> =
+            standable(&st.grid, self.config.robot_radius, POINT_SPACING)
+                .into_iter()
+                .filter(|&p| {
+                    self.room_at(p).is_none()
+                        && !places
+                            .iter()
+                            .chain(visited)
+                            .any(|q| dist(*q, p) < OUTSIDE_ROOMS_MIN)
+                })
+                .map(|p| (p, dist(at, p)))
+                .collect();
         candidates.sort_by(|a, b| a.1.total_cmp(&b.1));
         candidates
             .into_iter()
