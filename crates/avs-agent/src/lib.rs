@@ -144,20 +144,19 @@
 //!   When the planner would give up (no plan clears the threshold, or the plan budget is
 //!   spent), the knowledge was wrong or the target lies where it says little: the agent then
 //!   covers, nearest room first, the points no processed view has seen, exploring the
-//!   placeholders left, as the `uninformed` baseline does, and gives up only when nothing is
-//!   left; the reason names both ("… below the threshold 0.002; then every reachable room was
-//!   covered …"). With knowledge that puts the target in an unlikely room, giving up at the
-//!   threshold (the paper's rule) lost it in most runs: the planner stopped with rooms never
-//!   entered. Off, the agent gives up at once, as in the paper.
+//!   placeholders left and visiting known free space that no room holds, as the `uninformed`
+//!   baseline does, twice over (one look finds an object inside its planned view with about
+//!   0.6–0.8, so one pass missed the target on about one floor in four), and gives up only when
+//!   nothing is left; the reason names both ("… below the threshold 0.002; then every reachable
+//!   room was covered twice …"). With knowledge that puts the target in an unlikely room,
+//!   giving up at the threshold (the paper's rule) lost it in most runs: the planner stopped
+//!   with rooms never entered. Off, the agent gives up at once, as in the paper.
 //! * **Search heights.** A small object is looked for in a room at the tops of the landmark
 //!   classes the knowledge puts it on (lowest and highest, plus half its height; heights less
 //!   than 0.2 m apart are one, their middle: 0.97 m for a cereal box on tables and counters),
 //!   not at one table height: views planned for 0.8 m put a cereal box on a counter at the
-//!   upper border of the image, where the detector's confidence fell below `min_confidence`. Coverage (the baselines and the
-//!   coverage before giving up) also looks on the floor.
-//!   The coverage goes over the floor twice before giving up: one look finds an object inside
-//!   its planned view with about 0.6–0.8, so one pass missed the target on about one floor in
-//!   four.
+//!   upper border of the image, where the detector's confidence falls. Coverage (the baselines
+//!   and the coverage before giving up) also looks on the floor.
 //! * **Detections** count from confidence 0.2 (`min_confidence`). The simulated detector's
 //!   confidence is its detection probability at the estimated geometry, at most 1 − FN = 0.8;
 //!   at 0.5 a real object near the border of a view or the far end of the range was dropped one
@@ -168,7 +167,8 @@
 //!   at 0.2 a mug on an office desk passed for the cerealbox. So do the sightings that make a
 //!   landmark in a look-around (faint ones only split the clusters).
 //! * **Budgets:** at most 30 plans and 250 actions per goal, and 250 more actions for the
-//!   coverage before giving up; then it gives up and says so.
+//!   coverage before giving up; then it gives up and says so. (With 60 plans, misleading
+//!   floors spent about 500 m re-searching the likely rooms before the coverage began.)
 //! * **Look-alikes.** A sighting that verification rejected is remembered (class, position);
 //!   later sightings of that class within 0.6 m of a place rejected twice are ignored. After
 //!   one rejection a new sighting there is verified again: a real object fails one

@@ -22,8 +22,12 @@
 //! three strategies report on the same evidence; a room counts as
 //! covered when 80% (`COVERED_SHARE`) of its points were in processed views; its views are
 //! planned again for the points not yet covered (a room may need more than the POMDP's
-//! [`AgentConfig::max_cones`]) until that holds or no view can see the rest; the search gives
-//! up when no room is left uncovered and no placeholder is left.
+//! [`AgentConfig::max_cones`]) until that holds or no view can see the rest; when no room is
+//! left uncovered and no placeholder is left, known free space that no room holds (seen through
+//! a door never crossed) is visited so that it becomes a room; then the search gives up. The
+//! heights looked at are shared with the planner: the floor and the tops of the surfaces the
+//! knowledge puts the class on (geometry of where such objects rest, not where in the building
+//! they are).
 
 use super::*;
 
