@@ -83,17 +83,33 @@ fn same_seed_gives_byte_identical_json_trace() {
     assert_eq!(ja, jb);
 }
 
-fn office_with_closed_kitchen_door() -> World {
+/// The shipped office with each line containing an edit's needle replaced by
+/// `edit(line)`; `name` names the edited file in errors.
+fn office_edited(name: &str, edits: &[(&str, &dyn Fn(&str) -> String)]) -> World {
     let path = shipped("domains/environments/office.yaml");
-    let text = std::fs::read_to_string(&path).unwrap();
-    let line = text
-        .lines()
-        .find(|l| l.contains("name: door_kitchen"))
-        .expect("the shipped office has a kitchen door");
-    assert!(line.contains("open: true"));
-    let closed = text.replace(line, &line.replace("open: true", "open: false"));
-    let env = avs_format::load_yaml_str("office-closed-kitchen.yaml", &closed).unwrap();
+    let mut text = std::fs::read_to_string(&path).unwrap();
+    for (needle, edit) in edits {
+        let line = text
+            .lines()
+            .find(|l| l.contains(needle))
+            .unwrap_or_else(|| panic!("the shipped office has a line with `{needle}`"))
+            .to_string();
+        text = text.replace(&line, &edit(&line));
+    }
+    let env = avs_format::load_yaml_str(name, &text).unwrap();
     World::new(env, path.parent().unwrap()).unwrap()
+}
+
+fn close(line: &str) -> String {
+    assert!(line.contains("open: true"));
+    line.replace("open: true", "open: false")
+}
+
+fn office_with_closed_kitchen_door() -> World {
+    office_edited(
+        "office-closed-kitchen.yaml",
+        &[("name: door_kitchen", &close)],
+    )
 }
 
 #[test]
@@ -124,28 +140,19 @@ fn closed_kitchen_door_makes_the_agent_give_up_with_a_reason() {
 /// knowledge makes it least likely (a cereal box on an office desk has no rate of its own). The
 /// look-alike mug on office1's desk is taken out: this world tests coverage, not verification.
 fn office_with_cerealbox_on_an_office_desk() -> World {
-    let path = shipped("domains/environments/office.yaml");
-    let text = std::fs::read_to_string(&path).unwrap();
-    let door = text
-        .lines()
-        .find(|l| l.contains("name: door_kitchen"))
-        .expect("the shipped office has a kitchen door");
-    let cereal = text
-        .lines()
-        .find(|l| l.contains("id: cerealbox1"))
-        .expect("the shipped office has a cerealbox");
-    let moved = "  - { id: cerealbox1, class: cerealbox, role: target, room: office2, on: desk2, \
-                 pose: { x: 11.2, y: 7.3, z: 0.75 }, size: [0.2, 0.07, 0.3] }";
-    let mug = text
-        .lines()
-        .find(|l| l.contains("id: mug2"))
-        .expect("the shipped office has a mug in office1");
-    let text = text
-        .replace(door, &door.replace("open: true", "open: false"))
-        .replace(cereal, moved)
-        .replace(mug, "");
-    let env = avs_format::load_yaml_str("office-cereal-on-desk.yaml", &text).unwrap();
-    World::new(env, path.parent().unwrap()).unwrap()
+    let moved = |_: &str| {
+        "  - { id: cerealbox1, class: cerealbox, role: target, room: office2, on: desk2, \
+         pose: { x: 11.2, y: 7.3, z: 0.75 }, size: [0.2, 0.07, 0.3] }"
+            .to_string()
+    };
+    office_edited(
+        "office-cereal-on-desk.yaml",
+        &[
+            ("name: door_kitchen", &close),
+            ("id: cerealbox1", &moved),
+            ("id: mug2", &|_: &str| String::new()),
+        ],
+    )
 }
 
 fn search_with(world: &World, seed: u64, config: AgentConfig, goal: &str) -> SearchReport {
