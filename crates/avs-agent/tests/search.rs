@@ -83,9 +83,12 @@ fn same_seed_gives_byte_identical_json_trace() {
     assert_eq!(ja, jb);
 }
 
+/// An edit of one line: the needle that finds it, and what the line becomes.
+type LineEdit<'a> = (&'a str, &'a dyn Fn(&str) -> String);
+
 /// The shipped office with each line containing an edit's needle replaced by
 /// `edit(line)`; `name` names the edited file in errors.
-fn office_edited(name: &str, edits: &[(&str, &dyn Fn(&str) -> String)]) -> World {
+fn office_edited(name: &str, edits: &[LineEdit]) -> World {
     let path = shipped("domains/environments/office.yaml");
     let mut text = std::fs::read_to_string(&path).unwrap();
     for (needle, edit) in edits {
