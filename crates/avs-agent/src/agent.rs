@@ -19,8 +19,8 @@ use avs_plan::continual::{
 use avs_plan::domain::Domain;
 use avs_plan::problem::{Functions, Problem};
 use avs_pomdp::{
-    cone_priors, create_view_cones, euclidean_travel, CameraModel, DecisionRewards, DetectionRange,
-    PlannedView, SessionOptions, ViewConeAction, ViewConeProblem, ViewConeSession,
+    cone_priors, create_view_cones_zoomed, euclidean_travel, CameraModel, DecisionRewards,
+    DetectionRange, PlannedView, SessionOptions, ViewConeAction, ViewConeProblem, ViewConeSession,
 };
 use petgraph::graph::NodeIndex;
 use serde::Serialize;
@@ -70,8 +70,12 @@ pub struct AgentConfig {
     pub session: SessionOptions,
     /// Give up after this many plans.
     pub max_plans: usize,
-    /// Give up after this many executed actions.
+    /// Give up after this many executed actions (the plans' actions; the coverage has its own
+    /// budget, `max_cover_actions`).
     pub max_actions: usize,
+    /// Actions the coverage may take (the baselines' whole search, or the planner's coverage
+    /// before giving up): moves, explorations and views.
+    pub max_cover_actions: usize,
     /// Detections below this confidence are ignored.
     pub min_confidence: f64,
     /// Detections that confirm something count only from this confidence: a verification
@@ -161,6 +165,10 @@ impl Default for AgentConfig {
             },
             max_plans: 30,
             max_actions: 250,
+            // Covering a room for a small object takes many views: for a whiteboard marker on
+            // the floor, about 50–70 zoomed views per office, so two passes over a floor of
+            // seven rooms need about 800. 250 stopped the coverage after three or four rooms.
+            max_cover_actions: 1000,
             // The detector's confidence is its detection probability at the estimated
             // geometry (at most 1 − FN = 0.8): at 0.5 a real object near the border of a
             // planned view or the far end of its range was dropped one look in three (the
@@ -1955,7 +1963,7 @@ impl Agent {
         loc: ConeLoc,
         run: &mut Run,
     ) {
-        let Some(set) = self.plan_cones(robot, label, loc, None) else {
+        let Some(set) = self.plan_cones(robot, label, loc, None, &[1.0]) else {
             return;
         };
         run.emit(Event::Observed {
@@ -1970,14 +1978,21 @@ impl Agent {
     }
 
     /// View planning for `label` at `loc` (CREATEVIEWCONES, Sjöö et al. `004` §2.1): cones
-    /// covering `points`, or the location's own points when `None`; at most
-    /// [`AgentConfig::max_cones`] of them. `None` for an unknown class.
+    /// covering `points`, or the location's own points when `None`, with views at the zoom
+    /// levels `zooms`; at most [`AgentConfig::max_cones`] of them. `None` for an unknown class.
+    ///
+    /// The plan's searches keep the paper's unzoomed views (`&[1.0]`): their points are the
+    /// tops of the surfaces the knowledge names, within unzoomed range of some pose. The
+    /// coverage before giving up also looks at the floor, where a small object is beyond its
+    /// unzoomed range wherever the camera's tilt limit lets it look, and plans with
+    /// [`view_zooms`].
     fn plan_cones<R: Robot + ?Sized>(
         &self,
         robot: &R,
         label: &str,
         loc: ConeLoc,
         points: Option<Vec<[f64; 3]>>,
+        zooms: &[f64],
     ) -> Option<ConeSet> {
         let class = self.knowledge.class(label)?;
         let st = self.state();
@@ -2053,7 +2068,7 @@ impl Agent {
         let planned = if points.is_empty() || poses.is_empty() {
             None
         } else {
-            create_view_cones(&points, &poses, &camera, range, los).ok()
+            create_view_cones_zoomed(&points, &poses, &camera, range, zooms, los).ok()
         };
         Some(match planned {
             Some(mut p) => {
@@ -2280,7 +2295,7 @@ impl Agent {
                             Pose2D::new(v.pose[0], v.pose[1], v.pose[2]),
                             v.pan,
                             v.tilt,
-                            1.0,
+                            v.zoom,
                         );
                         let mut rep = robot.process_view_cone(&vc, &[label.to_string()]);
                         if rep.is_err() {
@@ -2309,8 +2324,12 @@ impl Agent {
                         }
                         run.emit(Event::DtAction {
                             action: format!(
-                                "PROCESSVIEWCONE {cone} from ({:.2}, {:.2}) pan {:.2} tilt {:.2}",
-                                v.pose[0], v.pose[1], v.pan, v.tilt
+                                "PROCESSVIEWCONE {cone} from ({:.2}, {:.2}) pan {:.2} tilt {:.2}{}",
+                                v.pose[0],
+                                v.pose[1],
+                                v.pan,
+                                v.tilt,
+                                zoom_text(v.zoom)
                             ),
                             detected: Some(detected),
                         });
@@ -2492,12 +2511,29 @@ impl Agent {
         };
         let target = [d.pose.x, d.pose.y];
         let here = robot.pose();
+        let cam = robot.camera();
+        // Far enough that the camera can tilt onto the sighting: a small object on the floor,
+        // 1.2 m below the camera, is out of view from closer than 1.2 m with a 45° tilt limit.
+        let dz = d.pose.z - cam.height;
+        let tilt_limit = if dz < 0.0 {
+            -cam.tilt_deg[0]
+        } else {
+            cam.tilt_deg[1]
+        }
+        .to_radians()
+        .min(VERIFY_MAX_TILT);
+        let min_reach = if tilt_limit > 0.0 {
+            dz.abs() / tilt_limit.tan()
+        } else {
+            f64::INFINITY
+        };
         let stand = {
             let grid = &self.state().grid;
             let trav = Traversability::new(grid, self.config.robot_radius, false);
             let [lo, hi] = class.recognition_range;
             let mut best: Option<([f64; 2], f64)> = None;
             for r in [0.5 * (lo + hi), hi, 0.5 * (hi + class.detection_range[1])] {
+                let r = r.max(min_reach);
                 for k in 0..VERIFY_BEARINGS {
                     let a = std::f64::consts::TAU * k as f64 / VERIFY_BEARINGS as f64;
                     let p = [target[0] + r * a.cos(), target[1] + r * a.sin()];
@@ -2531,7 +2567,6 @@ impl Agent {
                 });
             }
         }
-        let cam = robot.camera();
         let mut confirmed: Option<crate::robot::Detection> = None;
         let mut hits = 0;
         for look in 0..VERIFY_LOOKS {
@@ -2550,7 +2585,7 @@ impl Agent {
             // Zoom in so that the sighting lies in the middle of the recognition range (Sjöö
             // et al., §3.4: the distance interval scales with the zoom).
             let mid = 0.5 * (class.recognition_range[0] + class.recognition_range[1]);
-            let zoom = (dx.hypot(dy) / mid.max(1e-3)).clamp(1.0, cam.max_zoom.max(1.0));
+            let zoom = (dx.hypot(dy).hypot(dz) / mid.max(1e-3)).clamp(1.0, cam.max_zoom.max(1.0));
             let seen = robot
                 .process_view_cone(
                     &ViewCone::new(pose, pan, tilt, zoom),
@@ -2672,6 +2707,29 @@ const COVER_PASSES: usize = 2;
 const HEIGHT_STEP: f64 = 0.2;
 /// Spacing of the points of a room searched by view cones, metres.
 const POINT_SPACING: f64 = 0.4;
+/// A verification look needs the sighting within this tilt, radians (below the camera's
+/// limit: a sighting's height is an estimate).
+const VERIFY_MAX_TILT: f64 = 1.4;
+
+/// The zoom levels view planning may use with a camera zooming up to `max_zoom`: 1, 2, 4, …
+/// (each doubles the distance at which a small object is detected and halves the fields of
+/// view; `create_view_cones_zoomed` plans a level only for the points the lower ones cannot
+/// cover, such as a small object on the floor beyond its unzoomed range).
+pub(crate) fn view_zooms(max_zoom: f64) -> Vec<f64> {
+    std::iter::successors(Some(1.0), |z| Some(z * 2.0))
+        .take_while(|z| *z <= max_zoom.max(1.0) + 1e-9)
+        .take(8)
+        .collect()
+}
+
+/// The zoom of a view as the trace shows it: nothing for none.
+fn zoom_text(zoom: f64) -> String {
+    if zoom > 1.0 {
+        format!(" zoom {zoom:.1}")
+    } else {
+        String::new()
+    }
+}
 /// Spacing of candidate view poses, metres.
 const POSE_SPACING: f64 = 0.7;
 /// Looks a DT session may take beyond one per cone (second looks at detections).

@@ -10,6 +10,17 @@
 //! Views are then chosen greedily (§2.1.4): repeatedly the view covering most not-yet-covered points,
 //! until every point is covered or no view adds any. Greedy set cover is within a factor `H(k) ≤ ln k + 1`
 //! of the minimum number of views (Chvátal 1979).
+//!
+//! **Zoom** ([`create_view_cones_zoomed`]). The paper plans its views at no zoom and zooms only on
+//! hypotheses (§3.4), with the planning step's maximum detection distance set by the unzoomed
+//! image (§3.2). For a small object that leaves whole regions no unzoomed view can cover: a
+//! whiteboard marker on the floor, seen from a 1.2 m camera, is beyond its unzoomed detection
+//! range wherever the tilt limit lets the camera look at it. At zoom `z` the fields of view are
+//! divided by `z` and the distance interval multiplied by `z` (the same image detail at `z`
+//! times the distance, §3.4). Our choice: the candidates at zoom `z > 1` cover only the points
+//! that no candidate at a lower zoom level covers, so zoomed views are planned where they are
+//! needed and nowhere else (the candidate set stays small, and the wide unzoomed views keep
+//! doing the rest); the greedy choice then runs over all candidates together.
 
 use crate::error::{PomdpError, Result};
 use std::f64::consts::PI;
@@ -49,6 +60,8 @@ pub struct PlannedView {
     pub pan: f64,
     /// Camera tilt.
     pub tilt: f64,
+    /// Camera zoom (1: none; fields of view divided by it, detection range multiplied by it).
+    pub zoom: f64,
     /// Every point this view covers.
     pub covered: Vec<usize>,
     /// The points it covered first (disjoint across views; in greedy order).
@@ -101,6 +114,20 @@ pub fn create_view_cones(
     range: DetectionRange,
     line_of_sight: impl Fn([f64; 3], [f64; 3]) -> bool,
 ) -> Result<ViewConePlan> {
+    create_view_cones_zoomed(points, poses, camera, range, &[1.0], line_of_sight)
+}
+
+/// [`create_view_cones`] with the camera's zoom levels `zooms` (each ≥ 1, in any order; `camera`
+/// and `range` are at zoom 1): candidates at a zoom level cover only the points no candidate at
+/// a lower level covers (see the module docs).
+pub fn create_view_cones_zoomed(
+    points: &[[f64; 3]],
+    poses: &[[f64; 3]],
+    camera: &CameraModel,
+    range: DetectionRange,
+    zooms: &[f64],
+    line_of_sight: impl Fn([f64; 3], [f64; 3]) -> bool,
+) -> Result<ViewConePlan> {
     let bad = |field: &'static str, message: String| PomdpError::InvalidInput { field, message };
     if points.iter().flatten().any(|v| !v.is_finite()) {
         return Err(bad("points", "coordinates must be finite".into()));
@@ -140,25 +167,122 @@ pub fn create_view_cones(
             ),
         ));
     }
-    // Candidate views with their coverage.
+    if zooms.is_empty() || zooms.iter().any(|z| !(z.is_finite() && *z >= 1.0)) {
+        return Err(bad(
+            "zooms",
+            format!("expected one or more zoom levels, each a number ≥ 1, got {zooms:?}"),
+        ));
+    }
+    let mut levels = zooms.to_vec();
+    levels.sort_by(f64::total_cmp);
+    levels.dedup();
+    // Candidate views with their coverage, zoom level by zoom level; a level's candidates
+    // cover only what the lower levels' candidates cannot.
+    let mut candidates: Vec<Candidate> = Vec::new();
+    let mut coverable = vec![false; points.len()];
+    for &zoom in &levels {
+        let wanted: Vec<usize> = (0..points.len()).filter(|&k| !coverable[k]).collect();
+        if wanted.is_empty() {
+            break;
+        }
+        let before = candidates.len();
+        zoom_candidates(
+            points,
+            &wanted,
+            poses,
+            c,
+            range,
+            zoom,
+            &line_of_sight,
+            &mut candidates,
+        );
+        for cand in &candidates[before..] {
+            cand.covered.iter().for_each(|&k| coverable[k] = true);
+        }
+    }
+    // Greedy set cover (§2.1.4).
+    let mut is_covered = vec![false; points.len()];
+    let mut views = Vec::new();
+    loop {
+        let best = candidates
+            .iter()
+            .enumerate()
+            .map(|(i, cand)| (i, cand.covered.iter().filter(|k| !is_covered[**k]).count()))
+            .filter(|(_, n)| *n > 0)
+            .max_by(|x, y| x.1.cmp(&y.1).then(y.0.cmp(&x.0)));
+        let Some((i, _)) = best else { break };
+        let cand = candidates.swap_remove(i);
+        let newly: Vec<usize> = cand
+            .covered
+            .iter()
+            .copied()
+            .filter(|k| !is_covered[*k])
+            .collect();
+        newly.iter().for_each(|k| is_covered[*k] = true);
+        views.push(PlannedView {
+            pose_index: cand.pose,
+            pose: poses[cand.pose],
+            pan: cand.pan,
+            tilt: cand.tilt,
+            zoom: cand.zoom,
+            covered: cand.covered,
+            newly_covered: newly,
+        });
+    }
+    let n_cov = is_covered.iter().filter(|x| **x).count();
+    Ok(ViewConePlan {
+        views,
+        covered_share: if points.is_empty() {
+            1.0
+        } else {
+            n_cov as f64 / points.len() as f64
+        },
+        uncovered: (0..points.len()).filter(|k| !is_covered[*k]).collect(),
+    })
+}
+
+/// A candidate view: pose index, camera angles and zoom, and the points it covers.
+struct Candidate {
+    pose: usize,
+    pan: f64,
+    tilt: f64,
+    zoom: f64,
+    covered: Vec<usize>,
+}
+
+/// Append to `out` the candidate views at `zoom` (fields of view divided by it, distance
+/// interval multiplied by it) that cover some of the points `wanted`: every pose × pan × tilt
+/// on a grid of half the (zoomed) field of view.
+#[allow(clippy::too_many_arguments)]
+fn zoom_candidates(
+    points: &[[f64; 3]],
+    wanted: &[usize],
+    poses: &[[f64; 3]],
+    c: &CameraModel,
+    range: DetectionRange,
+    zoom: f64,
+    line_of_sight: &impl Fn([f64; 3], [f64; 3]) -> bool,
+    out: &mut Vec<Candidate>,
+) {
+    let (hfov, vfov) = (c.hfov / zoom, c.vfov / zoom);
+    let (d_min, d_max) = (range.min * zoom, range.max * zoom);
     // A pan range beyond a full turn, or tilts beyond straight up/down, add no new directions.
     let pan_hi = c.pan_limits[1].min(c.pan_limits[0] + 2.0 * PI);
-    let pans = angle_steps(c.pan_limits[0], pan_hi, c.hfov / 2.0);
+    let pans = angle_steps(c.pan_limits[0], pan_hi, hfov / 2.0);
     let tilt_lo = c.tilt_limits[0].max(-PI / 2.0);
     let tilt_hi = c.tilt_limits[1].min(PI / 2.0).max(tilt_lo);
-    let tilts = angle_steps(tilt_lo, tilt_hi, c.vfov / 2.0);
-    let mut candidates: Vec<(usize, f64, f64, Vec<usize>)> = Vec::new();
+    let tilts = angle_steps(tilt_lo, tilt_hi, vfov / 2.0);
     for (pi, pose) in poses.iter().enumerate() {
         let cam = [pose[0], pose[1], c.height];
         // Points in range and in line of sight do not depend on the camera angles.
-        let visible: Vec<(usize, f64, f64)> = points
+        let visible: Vec<(usize, f64, f64)> = wanted
             .iter()
-            .enumerate()
-            .filter_map(|(k, p)| {
+            .filter_map(|&k| {
+                let p = points[k];
                 let (dx, dy, dz) = (p[0] - cam[0], p[1] - cam[1], p[2] - cam[2]);
                 let horiz = (dx * dx + dy * dy).sqrt();
                 let d = (horiz * horiz + dz * dz).sqrt();
-                if d < range.min || d > range.max || !line_of_sight(cam, *p) {
+                if d < d_min || d > d_max || !line_of_sight(cam, p) {
                     return None;
                 }
                 Some((k, dy.atan2(dx), dz.atan2(horiz)))
@@ -173,48 +297,21 @@ pub fn create_view_cones(
                 let covered: Vec<usize> = visible
                     .iter()
                     .filter(|(_, az, el)| {
-                        wrap(az - yaw).abs() <= c.hfov / 2.0 + 1e-12
-                            && (el - tilt).abs() <= c.vfov / 2.0 + 1e-12
+                        wrap(az - yaw).abs() <= hfov / 2.0 + 1e-12
+                            && (el - tilt).abs() <= vfov / 2.0 + 1e-12
                     })
                     .map(|(k, _, _)| *k)
                     .collect();
                 if !covered.is_empty() {
-                    candidates.push((pi, pan, tilt, covered));
+                    out.push(Candidate {
+                        pose: pi,
+                        pan,
+                        tilt,
+                        zoom,
+                        covered,
+                    });
                 }
             }
         }
     }
-    // Greedy set cover (§2.1.4).
-    let mut is_covered = vec![false; points.len()];
-    let mut views = Vec::new();
-    loop {
-        let best = candidates
-            .iter()
-            .enumerate()
-            .map(|(i, (_, _, _, cov))| (i, cov.iter().filter(|k| !is_covered[**k]).count()))
-            .filter(|(_, n)| *n > 0)
-            .max_by(|x, y| x.1.cmp(&y.1).then(y.0.cmp(&x.0)));
-        let Some((i, _)) = best else { break };
-        let (pi, pan, tilt, cov) = candidates.swap_remove(i);
-        let newly: Vec<usize> = cov.iter().copied().filter(|k| !is_covered[*k]).collect();
-        newly.iter().for_each(|k| is_covered[*k] = true);
-        views.push(PlannedView {
-            pose_index: pi,
-            pose: poses[pi],
-            pan,
-            tilt,
-            covered: cov,
-            newly_covered: newly,
-        });
-    }
-    let n_cov = is_covered.iter().filter(|x| **x).count();
-    Ok(ViewConePlan {
-        views,
-        covered_share: if points.is_empty() {
-            1.0
-        } else {
-            n_cov as f64 / points.len() as f64
-        },
-        uncovered: (0..points.len()).filter(|k| !is_covered[*k]).collect(),
-    })
 }

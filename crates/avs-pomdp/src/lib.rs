@@ -81,7 +81,10 @@ pub mod viewcone;
 
 pub use bounds::{AlphaVector, Bounds};
 pub use cassandra::{parse_pomdp, read_pomdp_file};
-pub use cover::{create_view_cones, CameraModel, DetectionRange, PlannedView, ViewConePlan};
+pub use cover::{
+    create_view_cones, create_view_cones_zoomed, CameraModel, DetectionRange, PlannedView,
+    ViewConePlan,
+};
 pub use error::{PomdpError, Result};
 pub use model::{Pomdp, PomdpTables};
 pub use offline::{solve, solve_from, OfflineOptions, OfflineSolution, StopReason};

@@ -93,7 +93,7 @@ impl Agent {
         };
         let mut pass = 1;
         loop {
-            if run.metrics.actions >= self.config.max_actions {
+            if run.metrics.actions >= self.config.max_cover_actions {
                 return Ok(Err(format!(
                     "gave up after {} actions without finding a {}",
                     run.metrics.actions, goal.class
@@ -324,7 +324,13 @@ impl Agent {
                 return Ok(None);
             }
             let set = self
-                .plan_cones(robot, &label, loc, Some(todo.clone()))
+                .plan_cones(
+                    robot,
+                    &label,
+                    loc,
+                    Some(todo.clone()),
+                    &view_zooms(robot.camera().max_zoom),
+                )
                 .filter(|s| !s.views.is_empty());
             let Some(set) = set else {
                 // No view sees what is left: the room is done.
@@ -344,7 +350,7 @@ impl Agent {
             if let Some(f) = self.process_views(robot, &label, loc, &set, run)? {
                 return Ok(Some(f));
             }
-            if run.metrics.actions >= self.config.max_actions {
+            if run.metrics.actions >= self.config.max_cover_actions {
                 return Ok(None);
             }
             let truncated = set.views.len() >= self.config.max_cones;
@@ -373,7 +379,7 @@ impl Agent {
         };
         let mut todo: Vec<usize> = (0..set.views.len()).collect();
         while !todo.is_empty() {
-            if run.metrics.actions >= self.config.max_actions {
+            if run.metrics.actions >= self.config.max_cover_actions {
                 return Ok(None);
             }
             let here = robot.pose();
@@ -390,8 +396,12 @@ impl Agent {
             let view = &set.views[v];
             run.metrics.actions += 1;
             let action = format!(
-                "PROCESSVIEWCONE {label} {room} from ({:.2}, {:.2}) pan {:.2} tilt {:.2}",
-                view.pose[0], view.pose[1], view.pan, view.tilt
+                "PROCESSVIEWCONE {label} {room} from ({:.2}, {:.2}) pan {:.2} tilt {:.2}{}",
+                view.pose[0],
+                view.pose[1],
+                view.pan,
+                view.tilt,
+                zoom_text(view.zoom)
             );
             run.emit(Event::ActionStarted {
                 action: action.clone(),
@@ -401,7 +411,7 @@ impl Agent {
                 Pose2D::new(view.pose[0], view.pose[1], view.pose[2]),
                 view.pan,
                 view.tilt,
-                1.0,
+                view.zoom,
             );
             let look = |agent: &Self, robot: &mut R| -> Option<crate::robot::Detection> {
                 let r = robot.process_view_cone(&vc, &[label.to_string()]).ok()?;
