@@ -99,8 +99,10 @@
 //!   the product POMDP has 625 states and the solver's defaults took seconds per session.
 //! * **Verification** (Masuzawa & Miura `001` §4, reduced to one viewpoint). A sighting the DT
 //!   session declares found, and a baseline's first sighting, is looked at again from the
-//!   reachable point nearest the robot in the middle of the class's recognition range, through
-//!   views centred on it and zoomed so that it lies mid-recognition-range; two detections
+//!   reachable point nearest the robot in the middle of the class's recognition range (but no
+//!   nearer than the camera can tilt onto it: a small object on the floor, 1.2 m below a camera
+//!   that tilts 45° down, is looked at from at least 1.2 m), through views centred on it and
+//!   zoomed so that its (3-D) distance lies mid-recognition-range; two detections
 //!   within 0.6 m in at most three looks confirm it. A real object passes with 0.90 (miss rate
 //!   0.2); the simulated look-alike (distractor) fires at 0.25 outside and 0.05 inside the
 //!   recognition range, so it passes with under 0.01. A sighting not confirmed ends the session
@@ -166,9 +168,17 @@
 //!   where a real object shows with about 0.8) count only from 0.5 (`confirm_min_confidence`):
 //!   at 0.2 a mug on an office desk passed for the cerealbox. So do the sightings that make a
 //!   landmark in a look-around (faint ones only split the clusters).
-//! * **Budgets:** at most 30 plans and 250 actions per goal, and 250 more actions for the
-//!   coverage before giving up; then it gives up and says so. (With 60 plans, misleading
-//!   floors spent about 500 m re-searching the likely rooms before the coverage began.)
+//! * **Budgets:** at most 30 plans and 250 actions per goal, and 1000 more actions for the
+//!   coverage before giving up (`max_cover_actions`; also the baselines' budget); then it
+//!   gives up and says so. (With 60 plans, misleading floors spent about 500 m re-searching
+//!   the likely rooms before the coverage began; with 250 coverage actions, covering the
+//!   floor for a whiteboard marker stopped after three or four rooms.)
+//! * **Zoom in view planning.** The plan's room and landmark searches plan unzoomed views, as
+//!   the paper does (`004` §2.1, §3.2). The coverage also looks at the floor, which a small
+//!   object's unzoomed detection range does not reach wherever the camera can tilt; it plans
+//!   at zoom levels 1, 2, 4, … up to the camera's maximum, each level only for the points the
+//!   lower ones cannot cover ([`avs_pomdp::create_view_cones_zoomed`]; at zoom `z` the fields
+//!   of view shrink and the detection range grows by `z`, `004` §3.4).
 //! * **Look-alikes.** A sighting that verification rejected is remembered (class, position);
 //!   later sightings of that class within 0.6 m of a place rejected twice are ignored. After
 //!   one rejection a new sighting there is verified again: a real object fails one

@@ -198,6 +198,49 @@ fn a_target_the_plans_missed_is_found_by_covering_before_giving_up() {
     assert!(matches!(r.trace.last(), Some(Event::GoalReached { .. })));
 }
 
+/// The office with the whiteboard marker dropped on the floor of office2, away from the
+/// furniture: no unzoomed view can see it there (in range only closer than the camera can
+/// tilt), and a verification look from close by would have it below the image.
+fn office_with_a_marker_on_the_floor() -> World {
+    let dropped = |_: &str| {
+        "  - { id: whiteboardmarker1, class: whiteboardmarker, role: target, room: office2, \
+         pose: { x: 9.0, y: 6.3, z: 0.0 }, size: [0.13, 0.02, 0.02] }"
+            .to_string()
+    };
+    office_edited(
+        "office-marker-on-the-floor.yaml",
+        &[("id: whiteboardmarker1", &dropped)],
+    )
+}
+
+#[test]
+fn a_small_object_on_the_floor_is_found_by_zoomed_coverage_and_verified() {
+    let world = office_with_a_marker_on_the_floor();
+    let config = AgentConfig {
+        max_plans: 2,
+        ..AgentConfig::default()
+    };
+    let r = search_with(&world, 1, config, "whiteboardmarker");
+    assert!(covered_after_giving_up(&r), "{}", r.reason);
+    let found = r
+        .found
+        .as_ref()
+        .unwrap_or_else(|| panic!("the marker is not found: {}", r.reason));
+    let err = (found.pose.x - 9.0).hypot(found.pose.y - 6.3);
+    assert!(err < 0.6, "reported {:?}, {err:.2} m off", found.pose);
+    assert!(found.pose.z < 0.3, "reported at height {}", found.pose.z);
+    let zoomed = |e: &Event| match e {
+        Event::ActionStarted { action } => action.contains(" zoom "),
+        _ => false,
+    };
+    assert!(r.trace.iter().any(zoomed), "no zoomed view in the coverage");
+    // The verification looks that confirmed it saw it.
+    assert!(r.trace.iter().any(|e| matches!(
+        e,
+        Event::DtAction { action, detected: Some(true) } if action.starts_with("VERIFY")
+    )));
+}
+
 #[test]
 fn without_coverage_the_planner_gives_up_at_the_threshold_as_in_the_paper() {
     let world = office_with_closed_kitchen_door();

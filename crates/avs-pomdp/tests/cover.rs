@@ -1,6 +1,8 @@
 //! CREATEVIEWCONES: coverage under field of view, distance limits and line of sight.
 
-use avs_pomdp::{cone_priors, create_view_cones, CameraModel, DetectionRange};
+use avs_pomdp::{
+    cone_priors, create_view_cones, create_view_cones_zoomed, CameraModel, DetectionRange,
+};
 use std::f64::consts::PI;
 
 fn camera() -> CameraModel {
@@ -171,4 +173,135 @@ fn absurd_pan_and_tilt_limits_are_clamped_not_enumerated() {
     };
     let plan = create_view_cones(&pts, &poses, &cam, range, |_, _| true).unwrap();
     assert_eq!(plan.covered_share, 1.0);
+}
+
+/// The shipped office camera: 45° × 35°, tilting 45° down and 30° up, 1.2 m high.
+fn office_camera() -> CameraModel {
+    CameraModel {
+        hfov: 45f64.to_radians(),
+        vfov: 35f64.to_radians(),
+        pan_limits: [-PI, PI],
+        tilt_limits: [-45f64.to_radians(), 30f64.to_radians()],
+        height: 1.2,
+    }
+}
+
+/// Whether any view at zoom 1 (any pan, any tilt within the limits) from one of `poses` can
+/// cover `p`: the point is in the distance interval and within half the vertical field of
+/// view of the tilt range (the pan turns all the way round).
+fn unzoomed_can_cover(
+    poses: &[[f64; 3]],
+    cam: &CameraModel,
+    r: DetectionRange,
+    p: [f64; 3],
+) -> bool {
+    poses.iter().any(|q| {
+        let (dx, dy, dz) = (p[0] - q[0], p[1] - q[1], p[2] - cam.height);
+        let horiz = dx.hypot(dy);
+        let d = horiz.hypot(dz);
+        let el = dz.atan2(horiz);
+        d >= r.min
+            && d <= r.max
+            && el >= cam.tilt_limits[0] - cam.vfov / 2.0 - 1e-9
+            && el <= cam.tilt_limits[1] + cam.vfov / 2.0 + 1e-9
+    })
+}
+
+#[test]
+fn zoomed_views_cover_the_floor_where_no_unzoomed_view_reaches_a_small_object() {
+    // A whiteboard marker on the floor of a 4 m × 4 m room, seen from poses every 0.7 m, with
+    // the distance interval the agent plans with (0.3 m to 80% of the way to the detection
+    // range's 1.5 m): unzoomed, the floor is in range only closer than 0.4 m, where the camera
+    // cannot tilt.
+    let mut pts = Vec::new();
+    for i in 0..10 {
+        for j in 0..10 {
+            pts.push([0.2 + 0.4 * i as f64, 0.2 + 0.4 * j as f64, 0.01]);
+        }
+    }
+    let mut poses = Vec::new();
+    for i in 0..5 {
+        for j in 0..5 {
+            poses.push([0.6 + 0.7 * i as f64, 0.6 + 0.7 * j as f64, 0.0]);
+        }
+    }
+    let cam = office_camera();
+    let range = DetectionRange {
+        min: 0.3,
+        max: 1.26,
+    };
+    let flat = create_view_cones(&pts, &poses, &cam, range, |_, _| true).unwrap();
+    let zoomed =
+        create_view_cones_zoomed(&pts, &poses, &cam, range, &[4.0, 1.0, 2.0], |_, _| true).unwrap();
+    assert!(
+        flat.covered_share == 0.0 && zoomed.covered_share > 0.9,
+        "zoomed {} vs unzoomed {}",
+        zoomed.covered_share,
+        flat.covered_share
+    );
+    let mut seen = vec![false; pts.len()];
+    for v in &zoomed.views {
+        assert!([1.0, 2.0, 4.0].contains(&v.zoom), "zoom {}", v.zoom);
+        // At zoom z the fields of view shrink by z and the distance interval grows by z.
+        let at_zoom = CameraModel {
+            hfov: cam.hfov / v.zoom,
+            vfov: cam.vfov / v.zoom,
+            ..cam
+        };
+        let r = DetectionRange {
+            min: range.min * v.zoom,
+            max: range.max * v.zoom,
+        };
+        for &k in &v.covered {
+            assert!(
+                sees(v, &at_zoom, r, pts[k]),
+                "point {k} not visible from {v:?}"
+            );
+            // Zoomed views are planned only for what no unzoomed view can cover.
+            if v.zoom > 1.0 {
+                assert!(
+                    !unzoomed_can_cover(&poses, &cam, range, pts[k]),
+                    "point {k}"
+                );
+            }
+        }
+        for &k in &v.newly_covered {
+            assert!(!seen[k], "point {k} newly covered twice");
+            seen[k] = true;
+        }
+    }
+    // Every point the unzoomed planning covers, the zoomed one covers too.
+    for k in 0..pts.len() {
+        if !flat.uncovered.contains(&k) {
+            assert!(seen[k], "point {k} lost");
+        }
+    }
+}
+
+#[test]
+fn zoom_one_alone_plans_exactly_the_unzoomed_views() {
+    let pts = room_points();
+    let poses = [[1.0, 2.0, 0.0], [3.0, 2.0, 0.0], [5.0, 2.0, 0.0]];
+    let range = DetectionRange { min: 0.5, max: 4.0 };
+    let a = create_view_cones(&pts, &poses, &camera(), range, |_, _| true).unwrap();
+    let b = create_view_cones_zoomed(&pts, &poses, &camera(), range, &[1.0], |_, _| true).unwrap();
+    assert_eq!(a, b);
+    assert!(a.views.iter().all(|v| v.zoom == 1.0));
+}
+
+#[test]
+fn zoom_levels_below_one_or_not_finite_are_rejected() {
+    let pts = room_points();
+    let poses = [[1.0, 2.0, 0.0]];
+    let range = DetectionRange { min: 0.5, max: 4.0 };
+    for zooms in [
+        &[][..],
+        &[0.5][..],
+        &[1.0, f64::NAN][..],
+        &[f64::INFINITY][..],
+    ] {
+        let e = create_view_cones_zoomed(&pts, &poses, &camera(), range, zooms, |_, _| true)
+            .unwrap_err();
+        assert!(e.to_string().contains("zoom"), "{zooms:?}: {e}");
+    }
 }

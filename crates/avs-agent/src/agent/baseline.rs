@@ -27,7 +27,8 @@
 //! a door never crossed) is visited so that it becomes a room; then the search gives up. The
 //! heights looked at are shared with the planner: the floor and the tops of the surfaces the
 //! knowledge puts the class on (geometry of where such objects rest, not where in the building
-//! they are).
+//! they are). Views are planned with zoom where no unzoomed view reaches (the floor, for a
+//! small object), and the budget is [`AgentConfig::max_cover_actions`].
 
 use super::*;
 
