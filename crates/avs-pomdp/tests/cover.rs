@@ -271,10 +271,8 @@ fn zoomed_views_cover_the_floor_where_no_unzoomed_view_reaches_a_small_object() 
         }
     }
     // Every point the unzoomed planning covers, the zoomed one covers too.
-    for k in 0..pts.len() {
-        if !flat.uncovered.contains(&k) {
-            assert!(seen[k], "point {k} lost");
-        }
+    for (k, seen) in seen.iter().enumerate() {
+        assert!(*seen || flat.uncovered.contains(&k), "point {k} lost");
     }
 }
 
