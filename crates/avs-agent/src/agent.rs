@@ -2630,15 +2630,21 @@ impl Agent {
         Ok(confirmed)
     }
 
+    /// Whether a detection is of nothing the agent knows: no known object of its class within
+    /// 0.8 m and no look-alike rejected there.
+    pub(crate) fn is_new_sighting(&self, d: &crate::robot::Detection) -> bool {
+        let st = self.state();
+        !(st.objects
+            .iter()
+            .any(|o| o.class == d.class && o.pos.planar_distance(d.pose.x, d.pose.y) < 0.8)
+            || is_look_alike(&st.rejected, &d.class, [d.pose.x, d.pose.y]))
+    }
+
     /// Whether a detection lies in the searched location (and, for landmarks, is not one the
     /// agent already knows).
     fn detection_in(&self, d: &crate::robot::Detection, loc: ConeLoc, from: Pose2D) -> bool {
         let st = self.state();
-        let known = st
-            .objects
-            .iter()
-            .any(|o| o.class == d.class && o.pos.planar_distance(d.pose.x, d.pose.y) < 0.8)
-            || is_look_alike(&st.rejected, &d.class, [d.pose.x, d.pose.y]);
+        let known = !self.is_new_sighting(d);
         match loc {
             ConeLoc::On(k) => {
                 let o = &st.objects[k];

@@ -422,14 +422,17 @@ impl Agent {
                         x = d.pose.x,
                         y = d.pose.y,
                         confidence = d.confidence,
-                        inside = agent.detection_in(d, loc, r.pose),
+                        new = agent.is_new_sighting(d),
                         "coverage view"
                     );
                 }
+                // Any new sighting of the class counts, in the room being covered or not (a
+                // view from near a door sees past it, and the goal is the object wherever it
+                // is): verification decides.
                 r.detections
                     .into_iter()
                     .filter(|d| d.class == label && d.confidence >= agent.config.min_confidence)
-                    .filter(|d| agent.detection_in(d, loc, r.pose))
+                    .filter(|d| agent.is_new_sighting(d))
                     .max_by(|a, b| a.confidence.total_cmp(&b.confidence))
             };
             let first = if moved.is_ok() {
