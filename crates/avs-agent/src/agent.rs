@@ -2713,29 +2713,10 @@ const COVER_PASSES: usize = 2;
 const HEIGHT_STEP: f64 = 0.2;
 /// Spacing of the points of a room searched by view cones, metres.
 const POINT_SPACING: f64 = 0.4;
-/// A verification look needs the sighting within this tilt, radians (below the camera's
-/// limit: a sighting's height is an estimate).
+/// Tilt limits beyond this (radians, 80°) count as this where the verification standpoint's
+/// distance is worked out (`|dz| / tan(limit)`, which vanishes towards straight down).
 const VERIFY_MAX_TILT: f64 = 1.4;
 
-/// The zoom levels view planning may use with a camera zooming up to `max_zoom`: 1, 2, 4, …
-/// (each doubles the distance at which a small object is detected and halves the fields of
-/// view; `create_view_cones_zoomed` plans a level only for the points the lower ones cannot
-/// cover, such as a small object on the floor beyond its unzoomed range).
-pub(crate) fn view_zooms(max_zoom: f64) -> Vec<f64> {
-    std::iter::successors(Some(1.0), |z| Some(z * 2.0))
-        .take_while(|z| *z <= max_zoom.max(1.0) + 1e-9)
-        .take(8)
-        .collect()
-}
-
-/// The zoom of a view as the trace shows it: nothing for none.
-fn zoom_text(zoom: f64) -> String {
-    if zoom > 1.0 {
-        format!(" zoom {zoom:.1}")
-    } else {
-        String::new()
-    }
-}
 /// Spacing of candidate view poses, metres.
 const POSE_SPACING: f64 = 0.7;
 /// Looks a DT session may take beyond one per cone (second looks at detections).
@@ -2770,6 +2751,26 @@ const VERIFY_BEARINGS: usize = 16;
 /// Guard on the number of DT decisions per session.
 const MAX_DT_STEPS: usize = 60;
 
+/// The zoom levels view planning may use with a camera zooming up to `max_zoom`: 1, 2, 4, …
+/// (each doubles the distance at which a small object is detected and halves the fields of
+/// view; `create_view_cones_zoomed` plans a level only for the points the lower ones cannot
+/// cover, such as a small object on the floor beyond its unzoomed range).
+pub(crate) fn view_zooms(max_zoom: f64) -> Vec<f64> {
+    std::iter::successors(Some(1.0), |z| Some(z * 2.0))
+        .take_while(|z| *z <= max_zoom.max(1.0) + 1e-9)
+        .take(8)
+        .collect()
+}
+
+/// The zoom of a view as the trace shows it: nothing for none.
+fn zoom_text(zoom: f64) -> String {
+    if zoom > 1.0 {
+        format!(" zoom {zoom:.1}")
+    } else {
+        String::new()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -2781,6 +2782,18 @@ mod tests {
 
     fn set(names: &[&str]) -> BTreeSet<String> {
         names.iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn view_zooms_double_from_one_up_to_the_cameras_maximum() {
+        assert_eq!(view_zooms(4.0), vec![1.0, 2.0, 4.0]);
+        assert_eq!(view_zooms(3.0), vec![1.0, 2.0]);
+        assert_eq!(view_zooms(1.0), vec![1.0]);
+        // A camera without zoom (or a nonsense maximum) still has zoom 1.
+        assert_eq!(view_zooms(0.5), vec![1.0]);
+        assert_eq!(view_zooms(f64::NAN), vec![1.0]);
+        assert_eq!(zoom_text(1.0), "");
+        assert_eq!(zoom_text(2.0), " zoom 2.0");
     }
 
     #[test]
