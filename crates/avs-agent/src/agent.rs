@@ -2099,7 +2099,7 @@ impl Agent {
     }
 
     /// The points of room `r` where an object of `class` may be: known cells every
-    /// [`POINT_SPACING`], at each of [`Agent::search_heights`] (with the floor when `floor`).
+    /// [`POINT_SPACING`], at each of the [`search_heights`] (with the floor when `floor`).
     fn room_points(
         &self,
         r: u64,
@@ -2108,7 +2108,7 @@ impl Agent {
     ) -> Vec<[f64; 3]> {
         let st = self.state();
         let grid = &st.grid;
-        let heights = self.search_heights(class, floor);
+        let heights = search_heights(&self.knowledge, class, floor);
         let step = (POINT_SPACING / grid.resolution()).round().max(1.0) as usize;
         let mut pts = Vec::new();
         for row in (0..grid.height()).step_by(step) {
@@ -2124,53 +2124,45 @@ impl Agent {
         }
         pts
     }
-
-    /// The heights at which an object of `class` is looked for in a room: half its height for
-    /// furniture; for a small object, the tops of the landmark classes the knowledge puts it
-    /// *on* (the lowest and the highest; the detector sees an object at its surface plus half
-    /// its height), or [`SMALL_OBJECT_Z`] when the knowledge names none; with `floor`, also on
-    /// the floor (where the rates "anywhere in a room" may put it).
-    fn search_heights(&self, class: &avs_format::knowledge::ObjectClass, floor: bool) -> Vec<f64> {
-        search_heights(&self.knowledge, class, floor)
-    }
 }
 
-/// [`Agent::search_heights`] for `knowledge`.
+/// The heights at which an object of `class` is looked for in a room: half its height for
+/// furniture; for a small object, the tops of the landmark classes the knowledge puts it
+/// *on* (the lowest and the highest, or their middle when less than [`HEIGHT_STEP`] apart; the
+/// detector sees an object at its surface plus half its height), or [`SMALL_OBJECT_Z`] when
+/// the knowledge names none; with `floor`, also on the floor (where the rates "anywhere in a
+/// room" may put it).
 fn search_heights(
     knowledge: &Knowledge,
     class: &avs_format::knowledge::ObjectClass,
     floor: bool,
 ) -> Vec<f64> {
-    {
-        let half = 0.5 * class.size[2];
-        if class.landmark {
-            return vec![half];
-        }
-        let tops: Vec<f64> = knowledge
-            .landmark_rates
-            .iter()
-            .filter(|r| {
-                r.object == class.name
-                    && r.relation == Relation::On
-                    && r.rates.iter().any(|&x| x > 0.0)
-            })
-            .filter_map(|r| knowledge.class(&r.landmark))
-            .map(|l| l.size[2] + half)
-            .collect();
-        let lo = tops.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = tops.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        let mut zs = if tops.is_empty() {
-            vec![SMALL_OBJECT_Z]
-        } else if hi - lo < HEIGHT_STEP {
-            vec![0.5 * (lo + hi)]
-        } else {
-            vec![lo, hi]
-        };
-        if floor {
-            zs.insert(0, half);
-        }
-        zs
+    let half = 0.5 * class.size[2];
+    if class.landmark {
+        return vec![half];
     }
+    let tops: Vec<f64> = knowledge
+        .landmark_rates
+        .iter()
+        .filter(|r| {
+            r.object == class.name && r.relation == Relation::On && r.rates.iter().any(|&x| x > 0.0)
+        })
+        .filter_map(|r| knowledge.class(&r.landmark))
+        .map(|l| l.size[2] + half)
+        .collect();
+    let lo = tops.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = tops.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let mut zs = if tops.is_empty() {
+        vec![SMALL_OBJECT_Z]
+    } else if hi - lo < HEIGHT_STEP {
+        vec![0.5 * (lo + hi)]
+    } else {
+        vec![lo, hi]
+    };
+    if floor {
+        zs.insert(0, half);
+    }
+    zs
 }
 
 impl Agent {
@@ -2323,14 +2315,7 @@ impl Agent {
                             }
                         }
                         run.emit(Event::DtAction {
-                            action: format!(
-                                "PROCESSVIEWCONE {cone} from ({:.2}, {:.2}) pan {:.2} tilt {:.2}{}",
-                                v.pose[0],
-                                v.pose[1],
-                                v.pan,
-                                v.tilt,
-                                zoom_text(v.zoom)
-                            ),
+                            action: format!("PROCESSVIEWCONE {cone} {}", view_text(v)),
                             detected: Some(detected),
                         });
                         steps += 1;
@@ -2769,6 +2754,18 @@ fn zoom_text(zoom: f64) -> String {
     } else {
         String::new()
     }
+}
+
+/// A planned view as the trace shows it: "from (x, y) pan p tilt t[ zoom z]".
+fn view_text(v: &PlannedView) -> String {
+    format!(
+        "from ({:.2}, {:.2}) pan {:.2} tilt {:.2}{}",
+        v.pose[0],
+        v.pose[1],
+        v.pan,
+        v.tilt,
+        zoom_text(v.zoom)
+    )
 }
 
 #[cfg(test)]

@@ -82,8 +82,9 @@
 //!   again until the plan budget ran out); for an object the plan assumes, it is floored at 0.8
 //!   (the plan runs the session because it assumes the object there). A failed search thins the
 //!   location's rate by q = (1 − FN) × covered share. View planning counts a point as covered
-//!   only in the central 75% of the image (towards the border the detector's confidence falls) and within the nearer 80% of the class's detection range; on a
-//!   landmark it tries poses every 0.35 m instead of 0.7 m. The session's declarations are worth
+//!   only in the central 75% of the image (towards the border the detector's confidence falls)
+//!   and within the nearer 80% of the class's detection range; on a landmark it tries poses
+//!   every 0.35 m instead of 0.7 m. The session's declarations are worth
 //!   +100 (found), +20 (absent) and −50 (wrong) with γ = 0.99, not the reference model's
 //!   +10 / +5 / −20 with γ = 0.95: with those a room of 24 cones was declared empty after one
 //!   look, and at γ = 0.95 looking at the same cone forever (−20) beat the risk of a wrong

@@ -22,16 +22,28 @@ fn domain() -> Domain {
     Domain::load(&shipped("domains/object_search.yaml")).unwrap()
 }
 
-fn search(world: &World, seed: u64, failures: FailureRates, goal: &str) -> SearchReport {
-    let config = SimRobotConfig {
+/// One search in `world` with the robot's action failures `failures` and the agent's `config`;
+/// the trace is printed for a failing test's output.
+fn search_in(
+    world: &World,
+    seed: u64,
+    failures: FailureRates,
+    config: AgentConfig,
+    goal: &str,
+) -> SearchReport {
+    let robot_config = SimRobotConfig {
         failures,
         ..SimRobotConfig::default()
     };
-    let mut robot = SimAgentRobot::new(world, knowledge(), config, seed).unwrap();
-    let mut agent = Agent::new(domain(), knowledge(), AgentConfig::default()).unwrap();
+    let mut robot = SimAgentRobot::new(world, knowledge(), robot_config, seed).unwrap();
+    let mut agent = Agent::new(domain(), knowledge(), config).unwrap();
     let report = agent.search(&mut robot, Goal::find(goal)).unwrap();
     eprint!("{}", avs_agent::trace::render_text(&report.trace));
     report
+}
+
+fn search(world: &World, seed: u64, failures: FailureRates, goal: &str) -> SearchReport {
+    search_in(world, seed, failures, AgentConfig::default(), goal)
 }
 
 #[test]
@@ -159,12 +171,7 @@ fn office_with_cerealbox_on_an_office_desk() -> World {
 }
 
 fn search_with(world: &World, seed: u64, config: AgentConfig, goal: &str) -> SearchReport {
-    let mut robot =
-        SimAgentRobot::new(world, knowledge(), SimRobotConfig::default(), seed).unwrap();
-    let mut agent = Agent::new(domain(), knowledge(), config).unwrap();
-    let report = agent.search(&mut robot, Goal::find(goal)).unwrap();
-    eprint!("{}", avs_agent::trace::render_text(&report.trace));
-    report
+    search_in(world, seed, FailureRates::default(), config, goal)
 }
 
 fn covered_after_giving_up(r: &SearchReport) -> bool {

@@ -212,13 +212,16 @@ fn zoomed_views_cover_the_floor_where_no_unzoomed_view_reaches_a_small_object() 
     // A whiteboard marker on the floor of a 4 m × 4 m room, seen from poses every 0.7 m, with
     // the distance interval the agent plans with (0.3 m to 80% of the way to the detection
     // range's 1.5 m): unzoomed, the floor is in range only closer than 0.4 m, where the camera
-    // cannot tilt.
+    // cannot tilt. The same grid at table height (0.76 m) is in unzoomed range.
     let mut pts = Vec::new();
-    for i in 0..10 {
-        for j in 0..10 {
-            pts.push([0.2 + 0.4 * i as f64, 0.2 + 0.4 * j as f64, 0.01]);
+    for z in [0.01, 0.76] {
+        for i in 0..10 {
+            for j in 0..10 {
+                pts.push([0.2 + 0.4 * i as f64, 0.2 + 0.4 * j as f64, z]);
+            }
         }
     }
+    let on_floor = |k: usize| pts[k][2] < 0.5;
     let mut poses = Vec::new();
     for i in 0..5 {
         for j in 0..5 {
@@ -233,8 +236,12 @@ fn zoomed_views_cover_the_floor_where_no_unzoomed_view_reaches_a_small_object() 
     let flat = create_view_cones(&pts, &poses, &cam, range, |_, _| true).unwrap();
     let zoomed =
         create_view_cones_zoomed(&pts, &poses, &cam, range, &[4.0, 1.0, 2.0], |_, _| true).unwrap();
+    // Unzoomed: every table-height point, no floor point.
+    for (k, p) in pts.iter().enumerate() {
+        assert_eq!(flat.uncovered.contains(&k), on_floor(k), "point {k}: {p:?}");
+    }
     assert!(
-        flat.covered_share == 0.0 && zoomed.covered_share > 0.9,
+        zoomed.covered_share > 0.9,
         "zoomed {} vs unzoomed {}",
         zoomed.covered_share,
         flat.covered_share
@@ -263,6 +270,7 @@ fn zoomed_views_cover_the_floor_where_no_unzoomed_view_reaches_a_small_object() 
                     !unzoomed_can_cover(&poses, &cam, range, pts[k]),
                     "point {k}"
                 );
+                assert!(on_floor(k), "zoomed view {v:?} covers table point {k}");
             }
         }
         for &k in &v.newly_covered {

@@ -348,7 +348,7 @@ impl Agent {
                 ),
             });
             let before = run.covered.len();
-            if let Some(f) = self.process_views(robot, &label, loc, &set, run)? {
+            if let Some(f) = self.process_views(robot, &label, room, &set, run)? {
                 return Ok(Some(f));
             }
             if run.metrics.actions >= self.config.max_cover_actions {
@@ -370,14 +370,10 @@ impl Agent {
         &mut self,
         robot: &mut R,
         label: &str,
-        loc: ConeLoc,
+        room: RoomId,
         set: &ConeSet,
         run: &mut Run,
     ) -> Result<Option<FoundObject>, AgentError> {
-        let room = match loc {
-            ConeLoc::Room(r) => format!("room{r}"),
-            ConeLoc::On(k) => format!("object{k}"),
-        };
         let mut todo: Vec<usize> = (0..set.views.len()).collect();
         while !todo.is_empty() {
             if run.metrics.actions >= self.config.max_cover_actions {
@@ -396,14 +392,7 @@ impl Agent {
             let v = todo.remove(j);
             let view = &set.views[v];
             run.metrics.actions += 1;
-            let action = format!(
-                "PROCESSVIEWCONE {label} {room} from ({:.2}, {:.2}) pan {:.2} tilt {:.2}{}",
-                view.pose[0],
-                view.pose[1],
-                view.pan,
-                view.tilt,
-                zoom_text(view.zoom)
-            );
+            let action = format!("PROCESSVIEWCONE {label} room{} {}", room.0, view_text(view));
             run.emit(Event::ActionStarted {
                 action: action.clone(),
             });
