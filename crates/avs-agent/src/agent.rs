@@ -947,7 +947,7 @@ impl Agent {
         // The coverage has an action budget of its own.
         let spent = run.metrics.actions;
         run.metrics.actions = 0;
-        let end = self.cover_all(robot, goal, Strategy::Uninformed, COVER_PASSES, run);
+        let end = self.cover_all(robot, goal, Strategy::Uninformed, COVER_PASSES, true, run);
         run.metrics.actions += spent;
         Ok(match end? {
             Ok(f) => {
@@ -1062,6 +1062,26 @@ impl Agent {
         self.knowledge
             .class(class)
             .map_or(LOS_SLACK, |c| 0.5 * c.size[0].hypot(c.size[1]) + LOS_SLACK)
+    }
+
+    /// The tops of the known furniture that small objects rest on ([`surface_classes`]).
+    fn surfaces(&self) -> Vec<Surface> {
+        let kinds = surface_classes(&self.knowledge);
+        self.state()
+            .objects
+            .iter()
+            .filter(|o| o.landmark.is_some() && kinds.contains(o.class.as_str()))
+            .filter_map(|o| {
+                let c = self.knowledge.class(&o.class)?;
+                let center = [o.pos.x, o.pos.y];
+                Some(Surface {
+                    center,
+                    radius: 0.5 * c.size[0].hypot(c.size[1]),
+                    top: c.size[2],
+                    room: self.room_at(center).or_else(|| self.room_for(o.place)),
+                })
+            })
+            .collect()
     }
 
     /// The room a place belongs to; a door place belongs to its neighbour's room of smallest id.
@@ -2055,15 +2075,11 @@ impl Agent {
             min: near,
             max: near + COVER_RANGE_SHARE * (far - near),
         };
-        // The grid holds furniture footprints: stop the sight line short of the target point.
+        // The grid holds furniture footprints: stop the sight line short of the target point,
+        // or where it reaches the top the point rests on.
+        let surfaces = self.surfaces();
         let los = |a: [f64; 3], b: [f64; 3]| {
-            let d = dist([a[0], a[1]], [b[0], b[1]]);
-            if d <= LOS_SLACK {
-                return true;
-            }
-            let t = (d - LOS_SLACK) / d;
-            let e = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
-            line_of_sight(grid, [a[0], a[1]], e, true)
+            sight_clear(grid, &surfaces, [a[0], a[1]], b, LOS_SLACK, true)
         };
         let planned = if points.is_empty() || poses.is_empty() {
             None
@@ -2099,17 +2115,18 @@ impl Agent {
     }
 
     /// The points of room `r` where an object of `class` may be: known cells every
-    /// [`POINT_SPACING`], at each of the [`search_heights`] (with the floor when `floor`).
+    /// [`POINT_SPACING`], at each of the [`search_heights`] (those of the coverage when
+    /// `cover`).
     fn room_points(
         &self,
         r: u64,
         class: &avs_format::knowledge::ObjectClass,
-        floor: bool,
+        cover: bool,
     ) -> Vec<[f64; 3]> {
         let st = self.state();
         let grid = &st.grid;
-        let heights = search_heights(&self.knowledge, class, floor);
-        let step = (POINT_SPACING / grid.resolution()).round().max(1.0) as usize;
+        let heights = search_heights(&self.knowledge, class, cover);
+        let step = lattice_step(grid);
         let mut pts = Vec::new();
         for row in (0..grid.height()).step_by(step) {
             for col in (0..grid.width()).step_by(step) {
@@ -2126,26 +2143,147 @@ impl Agent {
     }
 }
 
+/// The landmark classes the knowledge puts something *on* (tables, counters, desks): the
+/// surfaces small objects rest on.
+fn surface_classes(knowledge: &Knowledge) -> BTreeSet<&str> {
+    knowledge
+        .landmark_rates
+        .iter()
+        .filter(|r| r.relation == Relation::On && r.rates.iter().any(|&x| x > 0.0))
+        .map(|r| r.landmark.as_str())
+        .collect()
+}
+
+/// The top of a known piece of furniture, as sight lines see it: the disc its footprint may
+/// occupy (its estimated centre and half its class's diagonal, the yaw being unknown) at the
+/// class's height.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Surface {
+    center: [f64; 2],
+    radius: f64,
+    top: f64,
+    /// The room the furniture stands in: that of its centre's cell, else that of the place it
+    /// was filed under.
+    room: Option<RoomId>,
+}
+
+impl Surface {
+    /// Whether a point at `p` (x, y, height) rests on (or above) this surface: inside its disc
+    /// and no more than [`SURFACE_Z_TOLERANCE`] below its top.
+    fn holds(&self, p: [f64; 3]) -> bool {
+        p[2] >= self.top - SURFACE_Z_TOLERANCE && dist([p[0], p[1]], self.center) <= self.radius
+    }
+
+    /// How far from `p` (inside the disc) towards `from` the straight line leaves the disc.
+    fn exit_distance(&self, p: [f64; 2], from: [f64; 2]) -> f64 {
+        let d = dist(p, from);
+        if d <= 0.0 {
+            return 0.0;
+        }
+        let u = [(from[0] - p[0]) / d, (from[1] - p[1]) / d];
+        let w = [p[0] - self.center[0], p[1] - self.center[1]];
+        let b = u[0] * w[0] + u[1] * w[1];
+        let c = w[0] * w[0] + w[1] * w[1] - self.radius * self.radius;
+        (-b + (b * b - c).max(0.0).sqrt()).clamp(0.0, d)
+    }
+}
+
+/// Every how many cells of `grid` a room's points lie: [`POINT_SPACING`] in cells.
+fn lattice_step(grid: &OccupancyGrid) -> usize {
+    (POINT_SPACING / grid.resolution()).round().max(1.0) as usize
+}
+
+/// The points on top of `surfaces` where an object of half height `half` may rest unseen by
+/// the laser: the unknown cells of `grid` inside each surface's disc, on the lattice of every
+/// `step`-th row and column (the lattice of the room's points), at the surface's top plus
+/// `half`. A cell under two surfaces counts once.
+fn unseen_tops(
+    grid: &OccupancyGrid,
+    surfaces: &[Surface],
+    step: usize,
+    half: f64,
+) -> Vec<[f64; 3]> {
+    let step = step.max(1) as i64;
+    let on_lattice = |i: i64| i.rem_euclid(step) == 0;
+    let (w, h) = (grid.width() as i64, grid.height() as i64);
+    let mut seen = BTreeSet::new();
+    let mut pts = Vec::new();
+    for s in surfaces {
+        let (c0, r0) = grid.world_to_cell(s.center[0] - s.radius, s.center[1] - s.radius);
+        let (c1, r1) = grid.world_to_cell(s.center[0] + s.radius, s.center[1] + s.radius);
+        for row in r0.max(0)..=r1.min(h - 1) {
+            for col in c0.max(0)..=c1.min(w - 1) {
+                if !(on_lattice(row) && on_lattice(col)) || grid.get_i(col, row) != Cell::Unknown {
+                    continue;
+                }
+                let (x, y) = grid.cell_center(col, row);
+                if dist([x, y], s.center) <= s.radius && seen.insert((col, row)) {
+                    pts.push([x, y, s.top + half]);
+                }
+            }
+        }
+    }
+    pts
+}
+
+/// Whether a camera at `from` sees the point `to` (x, y, height) on the known `grid`: the sight
+/// line crosses no occupied cell (nor unknown one, with `unknown_blocks`) up to `slack` short
+/// of the point — furniture footprints are obstacles of the map and a small object stands on
+/// or beside one — or, when the point rests on one of `surfaces`, up to where the line reaches
+/// that surface's disc: a camera above a table top sees the whole top over the table's edge,
+/// including the part the laser never saw into (a 2½-D sight line over known furniture; our
+/// choice, the papers' maps are planar).
+fn sight_clear(
+    grid: &OccupancyGrid,
+    surfaces: &[Surface],
+    from: [f64; 2],
+    to: [f64; 3],
+    slack: f64,
+    unknown_blocks: bool,
+) -> bool {
+    let p = [to[0], to[1]];
+    let d = dist(from, p);
+    let stop = surfaces
+        .iter()
+        .filter(|s| s.holds(to))
+        .map(|s| s.exit_distance(p, from))
+        .fold(slack, f64::max);
+    if d <= stop {
+        return true;
+    }
+    let t = (d - stop) / d;
+    let e = [
+        from[0] + t * (p[0] - from[0]),
+        from[1] + t * (p[1] - from[1]),
+    ];
+    line_of_sight(grid, from, e, unknown_blocks)
+}
+
 /// The heights at which an object of `class` is looked for in a room: half its height for
 /// furniture; for a small object, the tops of the landmark classes the knowledge puts it
 /// *on* (the lowest and the highest, or their middle when less than [`HEIGHT_STEP`] apart; the
 /// detector sees an object at its surface plus half its height), or [`SMALL_OBJECT_Z`] when
-/// the knowledge names none; with `floor`, also on the floor (where the rates "anywhere in a
-/// room" may put it).
+/// the knowledge names none. With `cover` (the coverage before giving up, which looks wherever
+/// an object may rest because the knowledge has proved wrong): the tops of every
+/// [`surface_classes`] instead of the class's own, and the floor (where the rates "anywhere
+/// in a room" may put it).
 fn search_heights(
     knowledge: &Knowledge,
     class: &avs_format::knowledge::ObjectClass,
-    floor: bool,
+    cover: bool,
 ) -> Vec<f64> {
     let half = 0.5 * class.size[2];
     if class.landmark {
         return vec![half];
     }
+    let floor = cover;
     let tops: Vec<f64> = knowledge
         .landmark_rates
         .iter()
         .filter(|r| {
-            r.object == class.name && r.relation == Relation::On && r.rates.iter().any(|&x| x > 0.0)
+            (cover || r.object == class.name)
+                && r.relation == Relation::On
+                && r.rates.iter().any(|&x| x > 0.0)
         })
         .filter_map(|r| knowledge.class(&r.landmark))
         .map(|l| l.size[2] + half)
@@ -2512,6 +2650,7 @@ impl Agent {
         } else {
             f64::INFINITY
         };
+        let surfaces = self.surfaces();
         let stand = {
             let grid = &self.state().grid;
             let trav = Traversability::new(grid, self.config.robot_radius, false);
@@ -2527,9 +2666,8 @@ impl Agent {
                         continue;
                     }
                     let slack = self.footprint_slack(label).min(LOS_SLACK);
-                    let t = (r - slack).max(0.0) / r;
-                    let e = [p[0] + t * (target[0] - p[0]), p[1] + t * (target[1] - p[1])];
-                    if !line_of_sight(grid, p, e, false) {
+                    let to = [target[0], target[1], d.pose.z];
+                    if !sight_clear(grid, &surfaces, p, to, slack, false) {
                         continue;
                     }
                     let Some(l) = self.known_path_len([here.x, here.y], p) else {
@@ -2713,6 +2851,9 @@ const COVER_RANGE_SHARE: f64 = 0.8;
 const COVER_FOV_SHARE: f64 = 0.75;
 /// Sight lines stop this short of the target point (furniture footprints are in the grid).
 const LOS_SLACK: f64 = 0.45;
+/// A point counts as resting on a surface down to this far below its top, metres (pose
+/// estimates of sightings are noisy in height too).
+const SURFACE_Z_TOLERANCE: f64 = 0.1;
 /// Slack around a landmark's footprint for detections "on" it, metres.
 const ON_SLACK: f64 = 0.3;
 /// Floor of the DT session's prior for an object the plan assumes in the location.
@@ -2812,6 +2953,131 @@ mod tests {
         let stapler = search_heights(&k, &class("stapler"), false);
         assert_eq!(stapler.len(), 1);
         assert!((stapler[0] - (0.75 + 0.035)).abs() < 1e-9, "{stapler:?}");
+    }
+
+    #[test]
+    fn the_coverage_looks_on_every_surface_and_the_floor() {
+        let k = office();
+        let stapler = k.class("stapler").unwrap().clone();
+        // Staplers lie on desks (0.75 m) by the knowledge; the coverage also looks on tables
+        // (0.75 m) and counters (0.9 m), less than HEIGHT_STEP apart: their middle, and the
+        // floor first.
+        let h = search_heights(&k, &stapler, true);
+        assert_eq!(h.len(), 2, "{h:?}");
+        assert!((h[0] - 0.035).abs() < 1e-9, "{h:?}");
+        assert!((h[1] - (0.5 * (0.75 + 0.9) + 0.035)).abs() < 1e-9, "{h:?}");
+        // Shelves hold things *in* them: not a surface.
+        let kinds = surface_classes(&k);
+        assert_eq!(kinds, ["counter", "desk", "table"].into_iter().collect());
+    }
+
+    /// A 3 m × 2 m room (0.1 m cells) with a wall along its top (y 1.9–2.0) and a table
+    /// against it (x 1.0–2.2, y 1.2–1.9) of which the laser saw only the front edge (y 1.2–1.3):
+    /// the rest of the footprint is unknown. Returns the grid and the table's top.
+    fn room_with_a_table_against_the_wall() -> (OccupancyGrid, Surface) {
+        let mut g = OccupancyGrid::new(30, 20, 0.1, [0.0, 0.0], Cell::Free).unwrap();
+        for col in 0..30 {
+            g.set(col, 19, Cell::Occupied);
+        }
+        for col in 10..=21 {
+            g.set(col, 12, Cell::Occupied);
+            for row in 13..=18 {
+                g.set(col, row, Cell::Unknown);
+            }
+        }
+        let table = Surface {
+            center: [1.6, 1.55],
+            radius: 0.5 * 1.2f64.hypot(0.8),
+            top: 0.75,
+            room: Some(RoomId(0)),
+        };
+        (g, table)
+    }
+
+    #[test]
+    fn a_table_top_is_seen_over_the_tables_edge_but_the_floor_behind_it_is_not() {
+        let (g, table) = room_with_a_table_against_the_wall();
+        let eye = [1.6, 0.3];
+        let back_of_top = [1.6, 1.8, 0.75 + 0.035];
+        // Without knowing the table, the sight line ends in its footprint's edge.
+        assert!(!sight_clear(&g, &[], eye, back_of_top, LOS_SLACK, true));
+        // Knowing it, the camera looks over the edge onto the top.
+        assert!(sight_clear(&g, &[table], eye, back_of_top, LOS_SLACK, true));
+        // A point on the floor behind it (or under it) does not rest on the top.
+        let floor_behind = [1.6, 1.8, 0.035];
+        assert!(!sight_clear(
+            &g,
+            &[table],
+            eye,
+            floor_behind,
+            LOS_SLACK,
+            true
+        ));
+        // Points just below the top (noisy height estimates) still count as on it.
+        assert!(table.holds([1.6, 1.8, 0.75 - 0.5 * SURFACE_Z_TOLERANCE]));
+        assert!(!table.holds([1.6, 1.8, 0.75 - 2.0 * SURFACE_Z_TOLERANCE]));
+    }
+
+    #[test]
+    fn a_wall_between_the_camera_and_a_table_still_blocks_the_sight_line() {
+        let (mut g, table) = room_with_a_table_against_the_wall();
+        // A wall at x 0.5–0.6 with the camera behind it: the point lies on the table's top,
+        // 0.5 m from its centre, but the sight line crosses the wall before it reaches the
+        // table's disc (whose edge is at x 1.6 − 0.72 = 0.88).
+        for row in 0..20 {
+            g.set(5, row, Cell::Occupied);
+        }
+        let eye = [0.2, 1.55];
+        let on_top = [1.1, 1.55, 0.785];
+        assert!(table.holds(on_top));
+        assert!(!sight_clear(&g, &[table], eye, on_top, LOS_SLACK, true));
+        // Without the wall it is seen.
+        for row in 0..20 {
+            g.set(5, row, Cell::Free);
+        }
+        assert!(sight_clear(&g, &[table], eye, on_top, LOS_SLACK, true));
+    }
+
+    #[test]
+    fn the_line_leaves_a_disc_at_its_radius_from_the_centre() {
+        let s = Surface {
+            center: [0.0, 0.0],
+            radius: 0.5,
+            top: 0.75,
+            room: None,
+        };
+        assert!((s.exit_distance([0.0, 0.0], [3.0, 0.0]) - 0.5).abs() < 1e-12);
+        assert!((s.exit_distance([0.3, 0.0], [3.0, 0.0]) - 0.2).abs() < 1e-12);
+        assert!((s.exit_distance([0.3, 0.0], [-3.0, 0.0]) - 0.8).abs() < 1e-12);
+        // From inside the disc, no farther than the camera.
+        assert!((s.exit_distance([0.3, 0.0], [0.1, 0.0]) - 0.2).abs() < 1e-12);
+    }
+
+    #[test]
+    fn unseen_tops_are_the_unknown_lattice_cells_on_the_table_at_its_height() {
+        let (g, table) = room_with_a_table_against_the_wall();
+        // Lattice every 4 cells: of the unknown rows 13–18 only row 16 (y 1.65) is on it, and
+        // of columns 10–21 columns 12, 16 and 20 (x 1.25, 1.65, 2.05), all within 0.72 m of
+        // the centre (1.6, 1.55). The seen edge (row 12) is a room point already.
+        let mut pts = unseen_tops(&g, &[table], 4, 0.035);
+        pts.sort_by(|a, b| a[0].total_cmp(&b[0]));
+        let want = [[1.25, 1.65], [1.65, 1.65], [2.05, 1.65]];
+        assert_eq!(pts.len(), want.len(), "{pts:?}");
+        for (p, w) in pts.iter().zip(want) {
+            assert!(
+                (p[0] - w[0]).abs() < 1e-9 && (p[1] - w[1]).abs() < 1e-9,
+                "{pts:?}"
+            );
+            assert!((p[2] - 0.785).abs() < 1e-9);
+        }
+        // The same table known twice (two sightings) gives each point once.
+        assert_eq!(unseen_tops(&g, &[table, table], 4, 0.035).len(), 3);
+        // A small surface whose disc holds no lattice cell gives none.
+        let tiny = Surface {
+            radius: 0.05,
+            ..table
+        };
+        assert!(unseen_tops(&g, &[tiny], 4, 0.035).is_empty());
     }
 
     #[test]

@@ -76,7 +76,10 @@
 //!   category with a coverage of 0.8 (eq. 1 thinned).
 //! * **SEARCHFOROBJECT** runs a closed-loop view-cone POMDP session (`002` §II-A.2) over the
 //!   cones of CREATEVIEWCONES (greedy coverage, Sjöö et al. `004` §2.1, with line of sight on
-//!   the known map stopping short of furniture footprints). The prior P(ObjectAt L) is spread
+//!   the known map stopping short of furniture footprints, or, for a point resting on known
+//!   furniture, where the line reaches the disc its footprint may cover: the camera looks over
+//!   a table's edge onto its top — a 2½-D sight line, our choice, the papers' maps are
+//!   planar). The prior P(ObjectAt L) is spread
 //!   uniformly over the location's points the cones cover (spread over all points, a room
 //!   covered to 40% was declared empty after one look, hardly thinned, and searched again and
 //!   again until the plan budget ran out); for an object the plan assumes, it is floored at 0.8
@@ -159,7 +162,10 @@
 //!   than 0.2 m apart are one, their middle: 0.97 m for a cereal box on tables and counters),
 //!   not at one table height: views planned for 0.8 m put a cereal box on a counter at the
 //!   upper border of the image, where the detector's confidence falls. Coverage (the baselines
-//!   and the coverage before giving up) also looks on the floor.
+//!   and the coverage before giving up) looks on the floor and on the tops of every surface
+//!   class (tables, counters, desks), not only those the knowledge puts the class on; the
+//!   coverage before giving up also looks around in the rooms it enters first, and looks at
+//!   the parts of known furniture tops the laser never saw (module `agent::baseline`).
 //! * **Detections** count from confidence 0.2 (`min_confidence`). The simulated detector's
 //!   confidence is its detection probability at the estimated geometry, at most 1 − FN = 0.8;
 //!   at 0.5 a real object near the border of a view or the far end of the range was dropped one
