@@ -1066,7 +1066,7 @@ impl Agent {
 
     /// The tops of the known furniture that small objects rest on ([`surface_classes`]).
     fn surfaces(&self) -> Vec<Surface> {
-        let kinds = surface_classes(&self.knowledge);
+        let kinds = surface_classes(&self.knowledge, None);
         self.state()
             .objects
             .iter()
@@ -2143,13 +2143,17 @@ impl Agent {
     }
 }
 
-/// The landmark classes the knowledge puts something *on* (tables, counters, desks): the
-/// surfaces small objects rest on.
-fn surface_classes(knowledge: &Knowledge) -> BTreeSet<&str> {
+/// The landmark classes the knowledge puts objects of class `of` *on* — or, with `None`, any
+/// object (tables, counters, desks): the surfaces small objects rest on.
+fn surface_classes<'k>(knowledge: &'k Knowledge, of: Option<&str>) -> BTreeSet<&'k str> {
     knowledge
         .landmark_rates
         .iter()
-        .filter(|r| r.relation == Relation::On && r.rates.iter().any(|&x| x > 0.0))
+        .filter(|r| {
+            of.is_none_or(|c| r.object == c)
+                && r.relation == Relation::On
+                && r.rates.iter().any(|&x| x > 0.0)
+        })
         .map(|r| r.landmark.as_str())
         .collect()
 }
@@ -2277,15 +2281,10 @@ fn search_heights(
         return vec![half];
     }
     let floor = cover;
-    let tops: Vec<f64> = knowledge
-        .landmark_rates
-        .iter()
-        .filter(|r| {
-            (cover || r.object == class.name)
-                && r.relation == Relation::On
-                && r.rates.iter().any(|&x| x > 0.0)
-        })
-        .filter_map(|r| knowledge.class(&r.landmark))
+    let of = (!cover).then_some(class.name.as_str());
+    let tops: Vec<f64> = surface_classes(knowledge, of)
+        .into_iter()
+        .filter_map(|l| knowledge.class(l))
         .map(|l| l.size[2] + half)
         .collect();
     let lo = tops.iter().copied().fold(f64::INFINITY, f64::min);
@@ -2967,8 +2966,12 @@ mod tests {
         assert!((h[0] - 0.035).abs() < 1e-9, "{h:?}");
         assert!((h[1] - (0.5 * (0.75 + 0.9) + 0.035)).abs() < 1e-9, "{h:?}");
         // Shelves hold things *in* them: not a surface.
-        let kinds = surface_classes(&k);
+        let kinds = surface_classes(&k, None);
         assert_eq!(kinds, ["counter", "desk", "table"].into_iter().collect());
+        assert_eq!(
+            surface_classes(&k, Some("stapler")),
+            ["desk"].into_iter().collect()
+        );
     }
 
     /// A 3 m × 2 m room (0.1 m cells) with a wall along its top (y 1.9–2.0) and a table
