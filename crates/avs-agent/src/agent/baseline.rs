@@ -34,8 +34,8 @@
 //! back of a table against a wall lies at no known cell), with sight lines that pass over the
 //! furniture a point rests on (`sight_clear`). On misleading bench floors 1–50, 7 of the 8
 //! misses at c7306aa were such objects: a stapler on a counter or table, a cereal box on a desk,
-//! a marker on a counter, all at the back. Views are planned with zoom where no unzoomed view
-//! reaches (the floor, for a small object), and the budget is
+//! a marker on a counter or a table, most at the back. Views are planned with zoom where no
+//! unzoomed view reaches (the floor, for a small object), and the budget is
 //! [`AgentConfig::max_cover_actions`].
 
 use super::*;
