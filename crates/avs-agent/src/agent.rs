@@ -24,6 +24,7 @@ use avs_pomdp::{
 };
 use petgraph::graph::NodeIndex;
 use serde::Serialize;
+use std::cell::RefCell;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::time::Instant;
 
@@ -483,6 +484,11 @@ pub struct Agent {
     knowledge: Knowledge,
     config: AgentConfig,
     state: Option<State>,
+    /// The traversability of the known map for the robot's radius, with unknown cells blocked
+    /// and free, kept until the map changes: path lengths are asked for many times between two
+    /// map updates (every verification standpoint, placeholder and room), and each map took a
+    /// distance transform of the whole grid.
+    trav_cache: RefCell<Vec<(OccupancyGrid, bool, Traversability)>>,
 }
 
 /// How a step ended.
@@ -637,6 +643,7 @@ impl Agent {
             knowledge,
             config,
             state: None,
+            trav_cache: RefCell::new(Vec::new()),
         })
     }
 
@@ -1497,11 +1504,29 @@ impl Agent {
 
     /// Length of the shortest path on the known map, unknown cells free or blocked, metres.
     fn path_len(&self, from: [f64; 2], to: [f64; 2], unknown_is_free: bool) -> Option<f64> {
-        let grid = &self.state().grid;
-        let t = Traversability::new(grid, self.config.robot_radius, unknown_is_free);
-        shortest_path(&t, from, to, 0.5)
+        self.with_trav(unknown_is_free, |t| shortest_path(t, from, to, 0.5))
             .filter(|p| p.points.last().is_some_and(|e| dist(*e, to) <= 0.5))
             .map(|p| p.length)
+    }
+
+    /// `f` of the traversability of the known map for the robot's radius (unknown cells free
+    /// or blocked), computed once per map (see `trav_cache`).
+    fn with_trav<T>(&self, unknown_is_free: bool, f: impl FnOnce(&Traversability) -> T) -> T {
+        let grid = &self.state().grid;
+        let mut cache = self.trav_cache.borrow_mut();
+        let k = match cache
+            .iter()
+            .position(|(g, free, _)| *free == unknown_is_free && g == grid)
+        {
+            Some(k) => k,
+            None => {
+                cache.retain(|(_, free, _)| *free != unknown_is_free);
+                let t = Traversability::new(grid, self.config.robot_radius, unknown_is_free);
+                cache.push((grid.clone(), unknown_is_free, t));
+                cache.len() - 1
+            }
+        };
+        f(&cache[k].2)
     }
 
     /// Drive to `target` along a path on the known map, updating the place map on the way.
@@ -1511,22 +1536,10 @@ impl Agent {
         target: [f64; 2],
     ) -> Result<Result<(), String>, AgentError> {
         let here = robot.pose();
-        let radius = self.config.robot_radius;
-        let grid = self.state().grid.clone();
-        let path = shortest_path(
-            &Traversability::new(&grid, radius, false),
-            [here.x, here.y],
-            target,
-            1.0,
-        )
-        .or_else(|| {
-            shortest_path(
-                &Traversability::new(&grid, radius, true),
-                [here.x, here.y],
-                target,
-                1.0,
-            )
-        });
+        let from = [here.x, here.y];
+        let path = self
+            .with_trav(false, |t| shortest_path(t, from, target, 1.0))
+            .or_else(|| self.with_trav(true, |t| shortest_path(t, from, target, 1.0)));
         let mut wps: Vec<[f64; 2]> = match &path {
             Some(p) => p.points.iter().skip(1).step_by(5).copied().collect(),
             None => Vec::new(),
