@@ -537,10 +537,9 @@ impl Run<'_> {
     }
 }
 
-/// Centres of the free cells of `grid` the robot (of radius `radius`) can stand on, every
-/// `spacing` metres along rows and columns.
-fn standable(grid: &OccupancyGrid, radius: f64, spacing: f64) -> Vec<[f64; 2]> {
-    let trav = Traversability::new(grid, radius, false);
+/// Centres of the free cells of `grid` the robot can stand on by `trav`, every `spacing`
+/// metres along rows and columns.
+fn standable(grid: &OccupancyGrid, trav: &Traversability, spacing: f64) -> Vec<[f64; 2]> {
     let step = (spacing / grid.resolution()).round().max(1.0) as usize;
     let mut out = Vec::new();
     for row in (0..grid.height()).step_by(step) {
@@ -1201,7 +1200,7 @@ impl Agent {
     /// area, attached to the nearest place, set in the conceptual map with the open area around
     /// it so that P_category(placeholder) applies (Aydemir et al. 2011, §III-A.1).
     fn unvisited_areas(&mut self, frontier: &[[f64; 2]]) -> Result<Vec<Cand>, AgentError> {
-        let (grid, radius) = (self.state().grid.clone(), self.config.robot_radius);
+        let grid = self.state().grid.clone();
         let res = grid.resolution();
         let places: Vec<[f64; 2]> = {
             let g = &self.state().wm.places.graph;
@@ -1222,7 +1221,7 @@ impl Agent {
         };
         let mut picked: Vec<Cand> = Vec::new();
         let mut extra: Vec<(u64, avs_concepts::Placeholder)> = Vec::new();
-        for pos in standable(&grid, radius, 1.0) {
+        for pos in self.with_trav(false, |t| standable(&grid, t, 1.0)) {
             if near_place(pos) <= UNVISITED_DIST
                 || picked.iter().any(|c| dist(c.pos, pos) < UNVISITED_SPACING)
             {
@@ -2063,7 +2062,8 @@ impl Agent {
             ConeLoc::Room(_) => POSE_SPACING,
             ConeLoc::On(_) => 0.5 * POSE_SPACING,
         };
-        let poses: Vec<[f64; 3]> = standable(grid, self.config.robot_radius, spacing)
+        let poses: Vec<[f64; 3]> = self
+            .with_trav(false, |t| standable(grid, t, spacing))
             .into_iter()
             .filter(|&[x, y]| match (loc, center) {
                 (ConeLoc::Room(r), _) => in_room(x, y, r),
@@ -2293,7 +2293,6 @@ fn search_heights(
     if class.landmark {
         return vec![half];
     }
-    let floor = cover;
     let of = (!cover).then_some(class.name.as_str());
     let tops: Vec<f64> = surface_classes(knowledge, of)
         .into_iter()
@@ -2309,7 +2308,7 @@ fn search_heights(
     } else {
         vec![lo, hi]
     };
-    if floor {
+    if cover {
         zs.insert(0, half);
     }
     zs
@@ -2663,9 +2662,10 @@ impl Agent {
             f64::INFINITY
         };
         let surfaces = self.surfaces();
+        let slack = self.footprint_slack(label).min(LOS_SLACK);
+        let to = [target[0], target[1], d.pose.z];
         let stand = {
             let grid = &self.state().grid;
-            let trav = Traversability::new(grid, self.config.robot_radius, false);
             let [lo, hi] = class.recognition_range;
             let mut best: Option<([f64; 2], f64)> = None;
             for r in [0.5 * (lo + hi), hi, 0.5 * (hi + class.detection_range[1])] {
@@ -2674,11 +2674,9 @@ impl Agent {
                     let a = std::f64::consts::TAU * k as f64 / VERIFY_BEARINGS as f64;
                     let p = [target[0] + r * a.cos(), target[1] + r * a.sin()];
                     let (c, rw) = grid.world_to_cell(p[0], p[1]);
-                    if grid.get_i(c, rw) != Cell::Free || !trav.ok(c, rw) {
+                    if grid.get_i(c, rw) != Cell::Free || !self.with_trav(false, |t| t.ok(c, rw)) {
                         continue;
                     }
-                    let slack = self.footprint_slack(label).min(LOS_SLACK);
-                    let to = [target[0], target[1], d.pose.z];
                     if !sight_clear(grid, &surfaces, p, to, slack, false) {
                         continue;
                     }

@@ -299,18 +299,18 @@ impl Agent {
         let places: Vec<[f64; 2]> = st.wm.places.graph.node_weights().map(|p| p.pos).collect();
         let here = robot.pose();
         let at = [here.x, here.y];
-        let mut candidates: Vec<([f64; 2], f64)> =
-            standable(&st.grid, self.config.robot_radius, POINT_SPACING)
-                .into_iter()
-                .filter(|&p| {
-                    self.room_at(p).is_none()
-                        && !places
-                            .iter()
-                            .chain(visited)
-                            .any(|q| dist(*q, p) < OUTSIDE_ROOMS_MIN)
-                })
-                .map(|p| (p, dist(at, p)))
-                .collect();
+        let mut candidates: Vec<([f64; 2], f64)> = self
+            .with_trav(false, |t| standable(&st.grid, t, POINT_SPACING))
+            .into_iter()
+            .filter(|&p| {
+                self.room_at(p).is_none()
+                    && !places
+                        .iter()
+                        .chain(visited)
+                        .any(|q| dist(*q, p) < OUTSIDE_ROOMS_MIN)
+            })
+            .map(|p| (p, dist(at, p)))
+            .collect();
         candidates.sort_by(|a, b| a.1.total_cmp(&b.1));
         candidates
             .into_iter()
