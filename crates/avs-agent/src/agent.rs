@@ -10,7 +10,7 @@ use crate::world_model::{WorldModel, WorldModelError};
 use avs_concepts::{ConceptError, ConceptualMap, LandmarkId, Location, PlaceholderId, RoomId};
 use avs_format::knowledge::{Knowledge, Relation};
 use avs_map::grid::{Cell, OccupancyGrid};
-use avs_map::nav::{shortest_path, Traversability};
+use avs_map::nav::{shortest_path, shortest_path_within, Traversability};
 use avs_map::places::{dist, PlaceMapParams};
 use avs_map::raycast::line_of_sight;
 use avs_plan::continual::{
@@ -1120,8 +1120,8 @@ impl Agent {
                         .graph
                         .node_weight(ph.place)
                         .map_or(ph.pos, |p| p.pos);
-                    self.path_len(a, ph.pos, true)
-                        .is_none_or(|l| l > 2.0 * dist(a, ph.pos) + 2.0)
+                    self.path_len_within(a, ph.pos, true, 2.0 * dist(a, ph.pos) + 2.0)
+                        .is_none()
                 })
                 .collect()
         };
@@ -1254,8 +1254,8 @@ impl Agent {
                 .take(ATTACH_CANDIDATES)
                 .filter_map(|&(n, d)| {
                     let a = st.wm.places.graph[n].pos;
-                    let l = self.known_path_len(a, pos)?;
-                    (l <= 2.0 * d + 2.0).then_some((n, l))
+                    let l = self.path_len_within(a, pos, false, 2.0 * d + 2.0)?;
+                    Some((n, l))
                 })
                 .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
             let Some((attach, _)) = best else {
@@ -1503,9 +1503,24 @@ impl Agent {
 
     /// Length of the shortest path on the known map, unknown cells free or blocked, metres.
     fn path_len(&self, from: [f64; 2], to: [f64; 2], unknown_is_free: bool) -> Option<f64> {
-        self.with_trav(unknown_is_free, |t| shortest_path(t, from, to, 0.5))
-            .filter(|p| p.points.last().is_some_and(|e| dist(*e, to) <= 0.5))
-            .map(|p| p.length)
+        self.path_len_within(from, to, unknown_is_free, f64::INFINITY)
+    }
+
+    /// [`Self::path_len`] when it is at most `max_len` metres, else `None`; the search stops at
+    /// that length (asking for a short path costs no flood of the map when there is none).
+    fn path_len_within(
+        &self,
+        from: [f64; 2],
+        to: [f64; 2],
+        unknown_is_free: bool,
+        max_len: f64,
+    ) -> Option<f64> {
+        self.with_trav(unknown_is_free, |t| {
+            shortest_path_within(t, from, to, 0.5, max_len)
+        })
+        .filter(|p| p.points.last().is_some_and(|e| dist(*e, to) <= 0.5))
+        .map(|p| p.length)
+        .filter(|&l| l <= max_len)
     }
 
     /// `f` of the traversability of the known map for the robot's radius (unknown cells free
@@ -1901,8 +1916,8 @@ impl Agent {
                         [here.x + ENTER_DEPTH * vx, here.y + ENTER_DEPTH * vy]
                     })
                     .filter(|b| {
-                        self.known_path_len([here.x, here.y], *b)
-                            .is_some_and(|l| l <= 1.5 * ENTER_DEPTH)
+                        self.path_len_within([here.x, here.y], *b, false, 1.5 * ENTER_DEPTH)
+                            .is_some()
                     })
                     .map(|b| {
                         let score =
@@ -1943,8 +1958,8 @@ impl Agent {
                     })
                     .map(|(k, c)| (*k, c.pos))
                     .filter(|(_, p)| {
-                        self.known_path_len([here.x, here.y], *p)
-                            .is_some_and(|l| l <= ROOM_EXPLORE_RADIUS)
+                        self.path_len_within([here.x, here.y], *p, false, ROOM_EXPLORE_RADIUS)
+                            .is_some()
                     })
                     .min_by(|a, b| {
                         dist(a.1, [here.x, here.y]).total_cmp(&dist(b.1, [here.x, here.y]))

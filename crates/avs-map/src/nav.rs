@@ -150,6 +150,24 @@ pub fn shortest_path(
     goal: [f64; 2],
     snap: f64,
 ) -> Option<GridPath> {
+    shortest_path_within(t, start, goal, snap, f64::INFINITY)
+}
+
+/// [`shortest_path`] when its length is at most `max_len` metres, else `None`.
+///
+/// The search stops as soon as the smallest `f = g + h` left exceeds the bound (the octile
+/// heuristic is consistent, so no path through the rest can be shorter): asking whether a
+/// short path exists costs a search of the cells within that length, not a flood of every
+/// reachable cell when there is none.
+pub fn shortest_path_within(
+    t: &Traversability,
+    start: [f64; 2],
+    goal: [f64; 2],
+    snap: f64,
+    max_len: f64,
+) -> Option<GridPath> {
+    // In cells, with room for rounding in the sums of step costs.
+    let bound = max_len / t.resolution * (1.0 + 1e-12) + 1e-9;
     let snap_cells = (snap / t.resolution).ceil() as i64;
     let s0 = t.cell_of(start);
     let g0 = t.cell_of(goal);
@@ -172,7 +190,10 @@ pub fn shortest_path(
         g: 0.0,
         idx: idx(s),
     });
-    while let Some(Entry { g: gc, idx: i, .. }) = heap.pop() {
+    while let Some(Entry { f, g: gc, idx: i }) = heap.pop() {
+        if f > bound {
+            return None;
+        }
         if gc > best[i] {
             continue;
         }

@@ -641,7 +641,6 @@ impl PlaceMap {
         let res = known.resolution();
         let r2 = (self.params.open_area_radius / res).powi(2);
         let (pc, pr) = known.world_to_cell(pos[0], pos[1]);
-        let w = known.width() as i64;
         // Places near enough to cover some cell within the radius.
         let reach = self.params.open_area_radius + self.params.covered_distance;
         let near: Vec<[f64; 2]> = self
@@ -660,12 +659,27 @@ impl PlaceMap {
             }
             _ => false,
         };
-        let mut seen = std::collections::HashSet::new();
+        // The fill never leaves the cluster's cells and their neighbours or the disc around `pos`:
+        // mark visited cells in a bitmap over that box.
+        let reach_cells = r2.sqrt().ceil() as i64;
+        let (mut c0, mut r0, mut c1, mut r1) = (
+            pc - reach_cells,
+            pr - reach_cells,
+            pc + reach_cells,
+            pr + reach_cells,
+        );
+        for &(c, r) in cluster {
+            (c0, r0, c1, r1) = (c0.min(c - 1), r0.min(r - 1), c1.max(c + 1), r1.max(r + 1));
+        }
+        let bw = c1 - c0 + 1;
+        let mut seen = vec![false; (bw * (r1 - r0 + 1)) as usize];
+        let at = |c: i64, r: i64| ((r - r0) * bw + (c - c0)) as usize;
         let mut q = VecDeque::new();
         for &(c, r) in cluster {
             for (dc, dr) in [(0, 0), (1, 0), (-1, 0), (0, 1), (0, -1)] {
                 let (nc, nr) = (c + dc, r + dr);
-                if known.contains(nc, nr) && open(nc, nr) && seen.insert(nr * w + nc) {
+                if known.contains(nc, nr) && !seen[at(nc, nr)] && open(nc, nr) {
+                    seen[at(nc, nr)] = true;
                     q.push_back((nc, nr));
                 }
             }
@@ -676,12 +690,8 @@ impl PlaceMap {
             for (dc, dr) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
                 let (nc, nr) = (c + dc, r + dr);
                 let d2 = ((nc - pc).pow(2) + (nr - pr).pow(2)) as f64;
-                if d2 <= r2
-                    && known.contains(nc, nr)
-                    && !seen.contains(&(nr * w + nc))
-                    && open(nc, nr)
-                {
-                    seen.insert(nr * w + nc);
+                if d2 <= r2 && known.contains(nc, nr) && !seen[at(nc, nr)] && open(nc, nr) {
+                    seen[at(nc, nr)] = true;
                     q.push_back((nc, nr));
                 }
             }

@@ -437,31 +437,46 @@ fn fast_informed_bound(m: &Pomdp, iterations: usize) -> Vec<f64> {
         }
     }
     // FIB sweeps from Q_MDP (monotone non-increasing, each a valid upper bound).
+    // The weights T(s'|s,a) O(z|a,s') do not change between sweeps: gather each (a, s, z)'s
+    // non-zero ones once. Where a single s' carries weight, max_{a'} w · Q(s',a') = w · max_{a'} Q(s',a'),
+    // so the inner maximisation reads the per-state maximum instead of looping over a'.
+    let mut weights: Vec<Vec<(usize, f64)>> = Vec::with_capacity(na * ns * no);
+    for a in 0..na {
+        for s in 0..ns {
+            let succ = m.successors(s, a);
+            for z in 0..no {
+                weights.push(
+                    succ.iter()
+                        .filter_map(|&(s2, t)| {
+                            let o = m.observation(a, s2, z);
+                            (o > 0.0).then_some((s2, t * o))
+                        })
+                        .collect(),
+                );
+            }
+        }
+    }
     let mut qn = q.clone();
+    let mut vmax = vec![0.0; ns];
     for _ in 0..iterations {
+        for (s, vs) in vmax.iter_mut().enumerate() {
+            *vs = (0..na)
+                .map(|a| q[a * ns + s])
+                .fold(f64::NEG_INFINITY, f64::max);
+        }
         let mut delta: f64 = 0.0;
         for a in 0..na {
             let r = m.reward_row(a);
             for s in 0..ns {
-                let succ = m.successors(s, a);
                 let mut total = 0.0;
-                for z in 0..no {
-                    let mut best = f64::NEG_INFINITY;
-                    let mut any = false;
-                    for a2 in 0..na {
-                        let mut acc = 0.0;
-                        for &(s2, t) in succ {
-                            let o = m.observation(a, s2, z);
-                            if o > 0.0 {
-                                any = true;
-                                acc += t * o * q[a2 * ns + s2];
-                            }
-                        }
-                        best = best.max(acc);
-                    }
-                    if any {
-                        total += best;
-                    }
+                for w in &weights[(a * ns + s) * no..(a * ns + s + 1) * no] {
+                    total += match w.as_slice() {
+                        [] => 0.0,
+                        [(s2, tw)] => tw * vmax[*s2],
+                        many => (0..na)
+                            .map(|a2| many.iter().map(|&(s2, tw)| tw * q[a2 * ns + s2]).sum())
+                            .fold(f64::NEG_INFINITY, f64::max),
+                    };
                 }
                 let x = (r[s] + gamma * total).min(q[a * ns + s]);
                 delta = delta.max((x - q[a * ns + s]).abs());
