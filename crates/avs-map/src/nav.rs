@@ -315,20 +315,29 @@ mod tests {
         assert!(shortest_path(&fat, [0.75, 0.75], [0.75, 2.75], 0.5).is_none());
     }
 
+    /// A 20 × 14 grid with a wall around it and about one cell in six blocked, from `seed`.
+    fn random_grid(seed: u64) -> OccupancyGrid {
+        let (w, h) = (20usize, 14usize);
+        let mut text = String::new();
+        for r in 0..h {
+            for c in 0..w {
+                let border = r == 0 || c == 0 || r == h - 1 || c == w - 1;
+                let v = (seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(((r * w + c) as u64).wrapping_mul(1442695040888963407)))
+                    >> 59;
+                text.push(if border || v < 5 { '#' } else { '.' });
+            }
+            text.push('\n');
+        }
+        OccupancyGrid::from_ascii(&text, 1.0, [0.0, 0.0]).unwrap()
+    }
+
     proptest! {
         #[test]
         fn astar_length_equals_dijkstra_distance(seed in 0u64..500) {
-            let (w, h) = (20usize, 14usize);
-            let mut text = String::new();
-            for r in 0..h {
-                for c in 0..w {
-                    let border = r == 0 || c == 0 || r == h - 1 || c == w - 1;
-                    let v = (seed.wrapping_mul(6364136223846793005).wrapping_add(((r * w + c) as u64).wrapping_mul(1442695040888963407))) >> 59;
-                    text.push(if border || v < 5 { '#' } else { '.' });
-                }
-                text.push('\n');
-            }
-            let g = OccupancyGrid::from_ascii(&text, 1.0, [0.0, 0.0]).unwrap();
+            let w = 20usize;
+            let g = random_grid(seed);
             let t = Traversability::new(&g, 0.0, false);
             let start = [1.5, 1.5];
             let field = distance_field(&t, start, 3.0);
@@ -345,6 +354,24 @@ mod tests {
                         let (gc, gr) = g.world_to_cell(goal[0], goal[1]);
                         prop_assert!(!t.ok(gc, gr) || field[gr as usize * w + gc as usize].is_infinite());
                     }
+                }
+            }
+        }
+
+        #[test]
+        fn a_bounded_search_finds_the_same_path_when_it_is_short_enough_and_none_otherwise(
+            seed in 0u64..300,
+            slack in -3.0f64..3.0,
+        ) {
+            let t = Traversability::new(&random_grid(seed), 0.0, false);
+            let start = [1.5, 1.5];
+            for goal in [[18.5, 12.5], [10.5, 7.5], [3.5, 11.5]] {
+                let full = shortest_path(&t, start, goal, 3.0);
+                let max_len = full.as_ref().map_or(20.0, |p| p.length) + slack;
+                let bounded = shortest_path_within(&t, start, goal, 3.0, max_len);
+                match &full {
+                    Some(p) if p.length <= max_len => prop_assert_eq!(bounded.as_ref(), Some(p)),
+                    _ => prop_assert!(bounded.is_none()),
                 }
             }
         }
