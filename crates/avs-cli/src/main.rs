@@ -8,6 +8,11 @@ use std::process::ExitCode;
 
 mod cmd;
 
+/// The searches allocate many small, short-lived beliefs (the POMDP sessions' look-ahead); a
+/// general-purpose allocator made for that pattern takes about a tenth off `avs run`.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// Active visual object search: plan where to go, where to look, and when to give up.
 #[derive(Parser)]
 #[command(name = "avs", version, about, propagate_version = true)]

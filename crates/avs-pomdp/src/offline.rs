@@ -213,7 +213,15 @@ pub fn solve_from(
     bounds.prune_alphas();
     let lower = bounds.lower_sparse(&b0).0;
     let upper = bounds.upper_sparse(&b0);
-    tracing::debug!(lower, upper, trials, backups, "HSVI finished");
+    tracing::debug!(
+        lower,
+        upper,
+        trials,
+        backups,
+        alphas = bounds.alphas.len(),
+        upper_points = bounds.n_upper_points(),
+        "HSVI finished"
+    );
     Ok(OfflineSolution {
         bounds,
         lower,
