@@ -40,7 +40,11 @@
 //!   with FP = 0 where the belief rules the target out) is an error, not a silent reset.
 //! * **Known limitation.** The sawtooth upper bound converges slowly on view-cone models with noisy
 //!   sensors (thousands of points for a 2-cone model at gap 1e-2), which is why sessions rely on
-//!   RTBSS over a bounded offline solve rather than on a converged policy.
+//!   RTBSS over a bounded offline solve rather than on a converged policy. The initial upper bound
+//!   is iterated down from rmax/(1−γ), so with γ near 1 and few `init_iterations` (the agent's
+//!   sessions: γ = 0.99, 40) it stays near that trivial bound, and HSVI's trials run to their depth
+//!   limit. Starting Q_MDP from below with a residual certificate would tighten it a
+//!   hundredfold, but it changes the sessions' decisions (see BENCHMARKS.md, `avs run`).
 //! * **RTBSS leaves.** At depth 1 the children are leaves, so all actions are evaluated exactly
 //!   instead of being ordered by U (same value, less work); deeper, Algorithm 3.2 is followed.
 //! * **CREATEVIEWCONES.** Candidate pans/tilts are spaced by half the field of view; visibility is the
