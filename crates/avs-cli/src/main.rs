@@ -8,8 +8,9 @@ use std::process::ExitCode;
 
 mod cmd;
 
-/// The searches allocate many small, short-lived beliefs (the POMDP sessions' look-ahead); a
-/// general-purpose allocator made for that pattern takes about a tenth off `avs run`.
+/// The searches allocate many small, short-lived beliefs (the POMDP sessions' look-ahead); an
+/// allocator made for that pattern took 0–12 % (about 7 % on average) off `avs run`'s CPU time in
+/// interleaved timings (BENCHMARKS.md).
 #[global_allocator]
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
