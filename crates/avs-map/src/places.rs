@@ -147,6 +147,10 @@ pub struct PlaceMap {
     /// Parameters.
     pub params: PlaceMapParams,
     current: Option<NodeIndex>,
+    /// The known grid of the last door detection and its hypotheses: most updates see the map
+    /// of the one before (a look, a turn, the sync after a move), and detection is a pure
+    /// function of the grid.
+    door_cache: Option<(OccupancyGrid, Vec<DoorHypothesis>)>,
 }
 
 impl PlaceMap {
@@ -158,6 +162,7 @@ impl PlaceMap {
             placeholders: Vec::new(),
             params,
             current: None,
+            door_cache: None,
         }
     }
 
@@ -225,15 +230,23 @@ impl PlaceMap {
         self.doors.retain(|d| d.confirmed);
         // Doorways seen from one side have unknown space behind them: detect on the optimistic
         // map (unknown taken as free) and keep the hypotheses whose opening the robot has seen.
-        let mut optimistic = known.clone();
-        for row in 0..known.height() {
-            for col in 0..known.width() {
-                if known.get(col, row) == Cell::Unknown {
-                    optimistic.set(col, row, Cell::Free);
+        let hypotheses = match &self.door_cache {
+            Some((grid, hs)) if grid == known => hs.clone(),
+            _ => {
+                let mut optimistic = known.clone();
+                for row in 0..known.height() {
+                    for col in 0..known.width() {
+                        if known.get(col, row) == Cell::Unknown {
+                            optimistic.set(col, row, Cell::Free);
+                        }
+                    }
                 }
+                let hs = detect_doors(&optimistic, &self.params.doors);
+                self.door_cache = Some((known.clone(), hs.clone()));
+                hs
             }
-        }
-        for h in detect_doors(&optimistic, &self.params.doors) {
+        };
+        for h in hypotheses {
             let (c, r) = known.world_to_cell(h.center[0], h.center[1]);
             if known.get_i(c, r) != Cell::Free || !in_a_wall(known, &h) {
                 continue;
@@ -820,6 +833,36 @@ mod tests {
                 map.update(g);
             }
         }
+    }
+
+    #[test]
+    fn door_hypotheses_follow_the_grid_they_were_detected_on() {
+        let open = two_rooms(false);
+        let mut shut = open.clone();
+        for c in 42..44 {
+            for r in 12..21 {
+                shut.set(c, r, Cell::Occupied);
+            }
+        }
+        let mut map = PlaceMap::new(PlaceMapParams::default());
+        let doors = |map: &PlaceMap| {
+            map.doors
+                .iter()
+                .filter(|d| (d.hypothesis.center[0] - 4.3).abs() < 0.3)
+                .count()
+        };
+        map.update(&shut);
+        assert_eq!(doors(&map), 0, "a wall without a gap has no door");
+        map.update(&open);
+        assert_eq!(
+            doors(&map),
+            1,
+            "the doorway in the wall is a door hypothesis"
+        );
+        map.update(&open);
+        assert_eq!(doors(&map), 1, "the same grid gives the same hypotheses");
+        map.update(&shut);
+        assert_eq!(doors(&map), 0, "the gap closed again");
     }
 
     #[test]
