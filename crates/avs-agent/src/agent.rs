@@ -537,6 +537,15 @@ impl Run<'_> {
     }
 }
 
+/// Length of the shortest path on `trav` from `from` to `to` when it is at most `max_len` metres
+/// and ends within 0.5 m of `to`, metres (the one home of the agent's path-length questions).
+fn path_len_on(trav: &Traversability, from: [f64; 2], to: [f64; 2], max_len: f64) -> Option<f64> {
+    shortest_path_within(trav, from, to, 0.5, max_len)
+        .filter(|p| p.points.last().is_some_and(|e| dist(*e, to) <= 0.5))
+        .map(|p| p.length)
+        .filter(|&l| l <= max_len)
+}
+
 /// Centres of the free cells of `grid` the robot can stand on by `trav`, every `spacing`
 /// metres along rows and columns.
 fn standable(grid: &OccupancyGrid, trav: &Traversability, spacing: f64) -> Vec<[f64; 2]> {
@@ -1496,11 +1505,6 @@ impl Agent {
         s
     }
 
-    /// Length of the shortest path on the known map (unknown cells blocked), metres.
-    fn known_path_len(&self, from: [f64; 2], to: [f64; 2]) -> Option<f64> {
-        self.path_len(from, to, false)
-    }
-
     /// Length of the shortest path on the known map, unknown cells free or blocked, metres.
     fn path_len(&self, from: [f64; 2], to: [f64; 2], unknown_is_free: bool) -> Option<f64> {
         self.path_len_within(from, to, unknown_is_free, f64::INFINITY)
@@ -1515,12 +1519,7 @@ impl Agent {
         unknown_is_free: bool,
         max_len: f64,
     ) -> Option<f64> {
-        self.with_trav(unknown_is_free, |t| {
-            shortest_path_within(t, from, to, 0.5, max_len)
-        })
-        .filter(|p| p.points.last().is_some_and(|e| dist(*e, to) <= 0.5))
-        .map(|p| p.length)
-        .filter(|&l| l <= max_len)
+        self.with_trav(unknown_is_free, |t| path_len_on(t, from, to, max_len))
     }
 
     /// `f` of the traversability of the known map for the robot's radius (unknown cells free
@@ -2679,7 +2678,7 @@ impl Agent {
         let surfaces = self.surfaces();
         let slack = self.footprint_slack(label).min(LOS_SLACK);
         let to = [target[0], target[1], d.pose.z];
-        let stand = {
+        let stand = self.with_trav(false, |trav| {
             let grid = &self.state().grid;
             let [lo, hi] = class.recognition_range;
             let mut best: Option<([f64; 2], f64)> = None;
@@ -2689,13 +2688,13 @@ impl Agent {
                     let a = std::f64::consts::TAU * k as f64 / VERIFY_BEARINGS as f64;
                     let p = [target[0] + r * a.cos(), target[1] + r * a.sin()];
                     let (c, rw) = grid.world_to_cell(p[0], p[1]);
-                    if grid.get_i(c, rw) != Cell::Free || !self.with_trav(false, |t| t.ok(c, rw)) {
+                    if grid.get_i(c, rw) != Cell::Free || !trav.ok(c, rw) {
                         continue;
                     }
                     if !sight_clear(grid, &surfaces, p, to, slack, false) {
                         continue;
                     }
-                    let Some(l) = self.known_path_len([here.x, here.y], p) else {
+                    let Some(l) = path_len_on(trav, [here.x, here.y], p, f64::INFINITY) else {
                         continue;
                     };
                     if best.is_none_or(|(_, b)| l < b) {
@@ -2707,7 +2706,7 @@ impl Agent {
                 }
             }
             best.map(|(p, _)| p)
-        };
+        });
         if let Some(p) = stand {
             if let Err(e) = self.go_to(robot, p)? {
                 run.emit(Event::Observed {
