@@ -4,7 +4,6 @@
 //! monitor after every step and replan with the reason, and give up when no plan's success
 //! probability clears the threshold.
 
-use crate::robot::{Point3, Pose2D, Robot, ViewCone};
 use crate::trace::{Event, TraceSink};
 use crate::world_model::{WorldModel, WorldModelError};
 use avs_concepts::{ConceptError, ConceptualMap, LandmarkId, Location, PlaceholderId, RoomId};
@@ -22,6 +21,7 @@ use avs_pomdp::{
     cone_priors, create_view_cones_zoomed, euclidean_travel, CameraModel, DecisionRewards,
     DetectionRange, PlannedView, SessionOptions, ViewConeAction, ViewConeProblem, ViewConeSession,
 };
+use avs_robot::{Point3, Pose2D, Robot, ViewCone};
 use petgraph::graph::NodeIndex;
 use serde::Serialize;
 use std::cell::RefCell;
@@ -1617,18 +1617,17 @@ impl Agent {
         let cam = robot.camera();
         let tilts: Vec<f64> = LOOK_TILTS
             .iter()
-            .map(|t| t.clamp(cam.tilt_deg[0].to_radians(), cam.tilt_deg[1].to_radians()))
+            .map(|t| t.clamp(cam.tilt_limits[0], cam.tilt_limits[1]))
             .collect();
         let pose = robot.pose();
-        let mut dets: Vec<crate::robot::Detection> = Vec::new();
+        let mut dets: Vec<avs_robot::Detection> = Vec::new();
         // Pans half a field of view apart: every direction is in two views, so that a real
         // landmark can collect the LOOK_MIN_SIGHTINGS that a false alarm rarely does.
-        let n_views =
-            (std::f64::consts::TAU / (0.5 * cam.hfov_deg.to_radians()).max(0.05)).ceil() as usize;
+        let n_views = (std::f64::consts::TAU / (0.5 * cam.hfov).max(0.05)).ceil() as usize;
         let mut failed = 0;
         for k in 0..n_views {
             let pan = (-std::f64::consts::PI + std::f64::consts::TAU * k as f64 / n_views as f64)
-                .clamp(cam.pan_deg[0].to_radians(), cam.pan_deg[1].to_radians());
+                .clamp(cam.pan_limits[0], cam.pan_limits[1]);
             for &tilt in &tilts {
                 match robot.process_view_cone(&ViewCone::new(pose, pan, tilt, 1.0), &classes) {
                     Ok(r) => dets.extend(
@@ -1641,7 +1640,7 @@ impl Agent {
             }
         }
         // One sighting per object: merge detections of a class within 1 m.
-        let mut clusters: Vec<(crate::robot::Detection, usize)> = Vec::new();
+        let mut clusters: Vec<(avs_robot::Detection, usize)> = Vec::new();
         for d in dets {
             match clusters.iter_mut().find(|(c, _)| {
                 c.class == d.class && c.pose.planar_distance(d.pose.x, d.pose.y) < LOOK_CLUSTER
@@ -1668,8 +1667,8 @@ impl Agent {
                     - std::f64::consts::PI;
                 let tilt = (d.pose.z - cam.height)
                     .atan2(dx.hypot(dy))
-                    .clamp(cam.tilt_deg[0].to_radians(), cam.tilt_deg[1].to_radians());
-                let pan = pan.clamp(cam.pan_deg[0].to_radians(), cam.pan_deg[1].to_radians());
+                    .clamp(cam.tilt_limits[0], cam.tilt_limits[1]);
+                let pan = pan.clamp(cam.pan_limits[0], cam.pan_limits[1]);
                 let again = robot
                     .process_view_cone(
                         &ViewCone::new(pose, pan, tilt, 1.0),
@@ -2089,10 +2088,10 @@ impl Agent {
         // A point counts as covered only in the central part of the image: towards the border
         // the detector's confidence falls (partly cut-off objects) below `min_confidence`.
         let camera = CameraModel {
-            hfov: COVER_FOV_SHARE * cam.hfov_deg.to_radians(),
-            vfov: COVER_FOV_SHARE * cam.vfov_deg.to_radians(),
-            pan_limits: cam.pan_deg.map(f64::to_radians),
-            tilt_limits: cam.tilt_deg.map(f64::to_radians),
+            hfov: COVER_FOV_SHARE * cam.hfov,
+            vfov: COVER_FOV_SHARE * cam.vfov,
+            pan_limits: cam.pan_limits,
+            tilt_limits: cam.tilt_limits,
             height: cam.height,
         };
         // Likewise only the nearer part of the detection range: at its far end the detector
@@ -2369,7 +2368,7 @@ impl Agent {
             cones: set.views.len(),
             p_location: p_loc,
         });
-        let mut outcome: Option<crate::robot::Detection> = None;
+        let mut outcome: Option<avs_robot::Detection> = None;
         let mut unconfirmed: Option<usize> = None;
         let mut steps = 0;
         let mut looked_share = 0.0;
@@ -2427,7 +2426,7 @@ impl Agent {
                     return Ok(StepEnd::Replan(format!("the view-cone POMDP failed: {e}")));
                 }
             };
-            let mut best: Vec<Option<crate::robot::Detection>> = vec![None; set.views.len()];
+            let mut best: Vec<Option<avs_robot::Detection>> = vec![None; set.views.len()];
             let mut seen_points: BTreeSet<usize> = BTreeSet::new();
             for _ in 0..MAX_DT_STEPS {
                 let t0 = Instant::now();
@@ -2651,9 +2650,9 @@ impl Agent {
         &mut self,
         robot: &mut R,
         label: &str,
-        d: &crate::robot::Detection,
+        d: &avs_robot::Detection,
         run: &mut Run,
-    ) -> Result<Option<crate::robot::Detection>, AgentError> {
+    ) -> Result<Option<avs_robot::Detection>, AgentError> {
         let Some(class) = self.knowledge.class(label).cloned() else {
             return Ok(None);
         };
@@ -2664,11 +2663,10 @@ impl Agent {
         // 1.2 m below the camera, is out of view from closer than 1.2 m with a 45° tilt limit.
         let dz = d.pose.z - cam.height;
         let tilt_limit = if dz < 0.0 {
-            -cam.tilt_deg[0]
+            -cam.tilt_limits[0]
         } else {
-            cam.tilt_deg[1]
+            cam.tilt_limits[1]
         }
-        .to_radians()
         .min(VERIFY_MAX_TILT);
         let min_reach = if tilt_limit > 0.0 {
             dz.abs() / tilt_limit.tan()
@@ -2714,7 +2712,7 @@ impl Agent {
                 });
             }
         }
-        let mut confirmed: Option<crate::robot::Detection> = None;
+        let mut confirmed: Option<avs_robot::Detection> = None;
         let mut hits = 0;
         for look in 0..VERIFY_LOOKS {
             if hits + (VERIFY_LOOKS - look) < VERIFY_HITS {
@@ -2725,10 +2723,10 @@ impl Agent {
             let pan = ((dy.atan2(dx) - pose.yaw + std::f64::consts::PI)
                 .rem_euclid(std::f64::consts::TAU)
                 - std::f64::consts::PI)
-                .clamp(cam.pan_deg[0].to_radians(), cam.pan_deg[1].to_radians());
+                .clamp(cam.pan_limits[0], cam.pan_limits[1]);
             let tilt = (d.pose.z - cam.height)
                 .atan2(dx.hypot(dy))
-                .clamp(cam.tilt_deg[0].to_radians(), cam.tilt_deg[1].to_radians());
+                .clamp(cam.tilt_limits[0], cam.tilt_limits[1]);
             // Zoom in so that the sighting lies in the middle of the recognition range (Sjöö
             // et al., §3.4: the distance interval scales with the zoom).
             let mid = 0.5 * (class.recognition_range[0] + class.recognition_range[1]);
@@ -2779,7 +2777,7 @@ impl Agent {
 
     /// Whether a detection is of nothing the agent knows: no known object of its class within
     /// 0.8 m and no look-alike rejected there.
-    pub(crate) fn is_new_sighting(&self, d: &crate::robot::Detection) -> bool {
+    pub(crate) fn is_new_sighting(&self, d: &avs_robot::Detection) -> bool {
         let st = self.state();
         !(st.objects
             .iter()
@@ -2789,7 +2787,7 @@ impl Agent {
 
     /// Whether a detection lies in the searched location (and, for landmarks, is not one the
     /// agent already knows).
-    fn detection_in(&self, d: &crate::robot::Detection, loc: ConeLoc, from: Pose2D) -> bool {
+    fn detection_in(&self, d: &avs_robot::Detection, loc: ConeLoc, from: Pose2D) -> bool {
         let st = self.state();
         let known = !self.is_new_sighting(d);
         match loc {

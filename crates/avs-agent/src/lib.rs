@@ -201,14 +201,15 @@
 #![warn(missing_docs)]
 
 pub mod agent;
-pub mod robot;
 pub mod trace;
 pub mod world_model;
 
 pub use agent::{Agent, AgentConfig, AgentError, FoundObject, Goal, Metrics, SearchReport};
 pub use trace::{Event, TraceSink};
 
-pub use robot::{
-    ActionFailure, ActionResult, Detection, FailureReason, MapUpdate, MoveReport, Point3, Pose2D,
-    Robot, ViewCone, ViewReport,
+/// The robot boundary (trait, plain data, scripted double), re-exported.
+pub use avs_robot;
+pub use avs_robot::{
+    ActionFailure, ActionResult, Camera, Detection, FailureReason, MapUpdate, MoveReport, Point3,
+    Pose2D, Robot, ViewCone, ViewReport,
 };

@@ -3,10 +3,10 @@
 //! stay rare.
 
 use avs_agent::{
-    ActionResult, Agent, AgentConfig, Event, Goal, MapUpdate, MoveReport, Pose2D, Robot,
+    ActionResult, Agent, AgentConfig, Camera, Event, Goal, MapUpdate, MoveReport, Pose2D, Robot,
     SearchReport, ViewCone, ViewReport,
 };
-use avs_format::environment::Camera;
+
 use avs_format::knowledge::Knowledge;
 use avs_plan::domain::Domain;
 use avs_sim::sensors::DetectorConfig;

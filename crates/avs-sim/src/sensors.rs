@@ -55,10 +55,10 @@
 //! seed and the same requests give the same detections.
 
 use crate::world::{wrap_angle, CameraView, World};
-use avs_agent::{Detection, Point3};
 use avs_format::environment::ObjectRole;
 use avs_format::knowledge::Knowledge;
 use avs_map::grid::OccupancyGrid;
+use avs_robot::{Detection, Point3};
 use rand::Rng;
 use rand_distr::{Distribution, Normal};
 

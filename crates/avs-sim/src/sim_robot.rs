@@ -28,7 +28,7 @@
 //! `door_events[i].after_m`).
 //!
 //! ```
-//! use avs_agent::{FailureReason, Pose2D, Robot};
+//! use avs_robot::{FailureReason, Pose2D, Robot};
 //! use avs_sim::sim_robot::{DoorEvent, SimAgentRobot, SimRobotConfig};
 //! let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
 //! let world = avs_sim::World::load(&root.join("domains/environments/office.yaml")).unwrap();
@@ -50,7 +50,7 @@
 //! would report; [`SimAgentRobot::sim`] is for the simulator's own bookkeeping (metrics).
 //!
 //! ```
-//! use avs_agent::{Pose2D, Robot, ViewCone};
+//! use avs_robot::{Pose2D, Robot, ViewCone};
 //! use avs_sim::sim_robot::{SimAgentRobot, SimRobotConfig};
 //! let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
 //! let world = avs_sim::World::load(&root.join("domains/environments/office.yaml")).unwrap();
@@ -71,13 +71,12 @@ pub use crate::robot::DoorEvent;
 use crate::robot::SimRobot;
 use crate::sensors::{Detector, DetectorConfig, SensorError};
 use crate::world::{CameraView, SimError, World};
-use avs_agent::{
-    ActionFailure, ActionResult, FailureReason, MapUpdate, MoveReport, Pose2D, Robot, ViewCone,
-    ViewReport,
-};
-use avs_format::environment::Camera;
 use avs_format::knowledge::Knowledge;
 use avs_map::grid::Cell;
+use avs_robot::{
+    ActionFailure, ActionResult, Camera, FailureReason, MapUpdate, MoveReport, Pose2D, Robot,
+    ViewCone, ViewReport,
+};
 use rand::Rng;
 
 /// Rates of random action failures, each a probability per action in [0, 1].
@@ -248,7 +247,7 @@ impl Robot for SimAgentRobot<'_> {
     }
 
     fn camera(&self) -> Camera {
-        self.world.env.camera.clone()
+        Camera::from(&self.world.env.camera)
     }
 
     fn odometry(&self) -> f64 {
@@ -317,8 +316,8 @@ impl Robot for SimAgentRobot<'_> {
             eye: [pose.x, pose.y, camera.height],
             yaw: pose.yaw + cone.pan,
             tilt: cone.tilt,
-            hfov: camera.hfov_deg.to_radians() / cone.zoom,
-            vfov: camera.vfov_deg.to_radians() / cone.zoom,
+            hfov: camera.hfov / cone.zoom,
+            vfov: camera.vfov / cone.zoom,
         };
         let (walls, rng) = self.sim.walls_and_rng();
         let detections = self

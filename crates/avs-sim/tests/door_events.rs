@@ -1,10 +1,10 @@
 //! Doors that open or close during a run: motion, laser and camera use the changed world, a
 //! door never shuts onto the robot, and bad events are refused with the field named.
 
-use avs_agent::{FailureReason, Pose2D, Robot, ViewCone};
 use avs_format::knowledge::Knowledge;
 use avs_map::grid::Cell;
 use avs_map::nav::{shortest_path, Traversability};
+use avs_robot::{FailureReason, Pose2D, Robot, ViewCone};
 use avs_sim::sensors::SensorError;
 use avs_sim::sim_robot::{DoorEvent, SimAgentRobot, SimRobotConfig};
 use avs_sim::{CameraView, SimRobot, World};
@@ -172,8 +172,8 @@ fn view_through_a_closed_door_sees_nothing_behind_it() {
             eye: [eye.x, eye.y, camera.height],
             yaw: eye.yaw,
             tilt: -0.08,
-            hfov: camera.hfov_deg.to_radians(),
-            vfov: camera.vfov_deg.to_radians(),
+            hfov: camera.hfov,
+            vfov: camera.vfov,
         };
         let visible = w
             .objects_in_view_through(r.sim().walls(), &view)

@@ -1,8 +1,8 @@
 //! The simulated camera detector and the simulated robot behind the agent's `Robot` trait:
 //! seeded statistical tests of the sensor model of the knowledge file (binomial 4-sigma bounds).
 
-use avs_agent::{FailureReason, Pose2D, Robot, ViewCone};
 use avs_format::knowledge::Knowledge;
+use avs_robot::{FailureReason, Pose2D, Robot, ViewCone};
 use avs_sim::sensors::{Detector, DetectorConfig};
 use avs_sim::sim_robot::{FailureRates, SimAgentRobot, SimRobotConfig};
 use avs_sim::{CameraView, World};
@@ -303,7 +303,7 @@ fn robot(w: &World, failures: FailureRates, seed: u64) -> SimAgentRobot<'_> {
     SimAgentRobot::new(w, knowledge(), cfg, seed).unwrap()
 }
 
-fn views(r: &mut SimAgentRobot<'_>) -> Vec<avs_agent::ViewReport> {
+fn views(r: &mut SimAgentRobot<'_>) -> Vec<avs_robot::ViewReport> {
     let classes = vec!["cerealbox".to_string(), "table".to_string()];
     let mut out = Vec::new();
     for i in 0..40 {

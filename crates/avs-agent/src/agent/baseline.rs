@@ -445,7 +445,7 @@ impl Agent {
                 view.tilt,
                 view.zoom,
             );
-            let look = |agent: &Self, robot: &mut R| -> Option<crate::robot::Detection> {
+            let look = |agent: &Self, robot: &mut R| -> Option<avs_robot::Detection> {
                 let r = robot.process_view_cone(&vc, &[label.to_string()]).ok()?;
                 for d in &r.detections {
                     tracing::debug!(

@@ -1,8 +1,43 @@
-//! The [`Robot`] trait: everything the agent may ask of a robot, and the plain data it gets back.
+//! # avs-robot
+//!
+//! The boundary between the avs agent and a robot: the [`Robot`] trait (everything the agent may
+//! ask of a robot) and the plain data it gets back, in SI units and radians. A real robot
+//! implements [`Robot`] with its own drivers; the simulator (`avs-sim`) implements it with the
+//! knowledge file's sensor models; [`ScriptedRobot`] is a test double whose map, motion and
+//! detections a test writes down, so that the agent's skills can be tested without a simulator.
+//! The agent and the simulator both depend on this crate and not on each other.
+//!
+//! Angles are radians everywhere in this crate. The files users write give the camera in
+//! degrees (`avs_format::environment::Camera`); [`Camera::from`] converts them once, at that
+//! edge.
+//!
+//! ```
+//! use avs_robot::{Camera, Detection, Point3, Pose2D, Robot, ScriptedRobot, ViewCone};
+//! use avs_map::grid::OccupancyGrid;
+//! let grid = OccupancyGrid::from_ascii("#####\n#...#\n#####", 0.5, [0.0, 0.0]).unwrap();
+//! let mut robot = ScriptedRobot::new(grid, Pose2D::new(0.75, 0.75, 0.0), Camera::default());
+//! // The next view sees a mug 1 m ahead.
+//! robot.script_view(Ok(vec![Detection {
+//!     class: "mug".into(),
+//!     pose: Point3 { x: 1.75, y: 0.75, z: 0.8 },
+//!     confidence: 0.9,
+//! }]));
+//! let cone = ViewCone::new(robot.pose(), 0.0, -0.2, 1.0);
+//! let seen = robot.process_view_cone(&cone, &["mug".to_string()]).unwrap();
+//! assert_eq!(seen.detections.len(), 1);
+//! robot.move_to(Pose2D::new(1.75, 0.75, 0.0)).unwrap();
+//! assert!((robot.odometry() - 1.0).abs() < 1e-12);
+//! ```
+#![warn(missing_docs)]
 
-use avs_format::environment::Camera;
 use avs_map::grid::OccupancyGrid;
 use serde::{Deserialize, Serialize};
+
+mod camera;
+mod scripted;
+
+pub use camera::Camera;
+pub use scripted::{Call, ScriptedRobot};
 
 /// A planar pose: position (metres) and heading (radians, counter-clockwise from +x).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -93,14 +128,14 @@ impl ViewCone {
             ));
         }
         let eps = 1e-9;
-        let [p0, p1] = camera.pan_deg.map(f64::to_radians);
+        let [p0, p1] = camera.pan_limits;
         if !(self.pan.is_finite() && self.pan >= p0 - eps && self.pan <= p1 + eps) {
             return bad(format!(
                 "view cone pan {} rad: expected a number in [{p0:.3}, {p1:.3}] rad",
                 self.pan
             ));
         }
-        let [t0, t1] = camera.tilt_deg.map(f64::to_radians);
+        let [t0, t1] = camera.tilt_limits;
         if !(self.tilt.is_finite() && self.tilt >= t0 - eps && self.tilt <= t1 + eps) {
             return bad(format!(
                 "view cone tilt {} rad: expected a number in [{t0:.3}, {t1:.3}] rad",
@@ -200,7 +235,7 @@ pub trait Robot {
     /// The robot's current pose estimate.
     fn pose(&self) -> Pose2D;
 
-    /// The robot's pan-tilt-zoom camera: fields of view at zoom 1, limits and height.
+    /// The robot's pan-tilt-zoom camera: fields of view at zoom 1, limits (radians) and height.
     fn camera(&self) -> Camera;
 
     /// Total distance travelled so far (odometry), metres.

@@ -1,0 +1,280 @@
+//! [`ScriptedRobot`]: a [`Robot`] whose world a test writes down — a fixed map, straight-line
+//! motion, objects the camera sees when they lie in its image, and scripted replies and
+//! failures — with a log of every call the agent made. For unit tests of the agent's skills
+//! without the simulator.
+
+use crate::{
+    ActionFailure, ActionResult, Camera, Detection, MapUpdate, MoveReport, Pose2D, Robot, ViewCone,
+    ViewReport,
+};
+use avs_map::grid::{Cell, OccupancyGrid};
+use std::collections::VecDeque;
+
+/// One call the agent made of a [`ScriptedRobot`], in order.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Call {
+    /// `move_to(goal)`.
+    Move(Pose2D),
+    /// `map_update()`.
+    MapUpdate,
+    /// `process_view_cone(cone, classes)`.
+    View(ViewCone, Vec<String>),
+}
+
+/// A scripted robot: the map is what the test gives ([`ScriptedRobot::set_grid`]), motion goes
+/// in a straight line and always arrives unless a failure is scripted
+/// ([`ScriptedRobot::script_move`]), and a view returns the next scripted reply
+/// ([`ScriptedRobot::script_view`]) or, when none is left, every placed object
+/// ([`ScriptedRobot::place`]) whose position lies inside the view's image (fields of view
+/// divided by the zoom; no occlusion, no noise). Deterministic; nothing random.
+#[derive(Debug, Clone)]
+pub struct ScriptedRobot {
+    grid: OccupancyGrid,
+    pose: Pose2D,
+    camera: Camera,
+    odometry: f64,
+    known_reported: usize,
+    moves: VecDeque<ActionFailure>,
+    views: VecDeque<ActionResult<Vec<Detection>>>,
+    objects: Vec<Detection>,
+    calls: Vec<Call>,
+}
+
+impl ScriptedRobot {
+    /// A robot at `pose` on `grid` (its whole laser map) with `camera`.
+    pub fn new(grid: OccupancyGrid, pose: Pose2D, camera: Camera) -> Self {
+        Self {
+            grid,
+            pose,
+            camera,
+            odometry: 0.0,
+            known_reported: 0,
+            moves: VecDeque::new(),
+            views: VecDeque::new(),
+            objects: Vec::new(),
+            calls: Vec::new(),
+        }
+    }
+
+    /// Replace the laser map (e.g. to reveal more of it); the next update counts the change.
+    pub fn set_grid(&mut self, grid: OccupancyGrid) {
+        self.grid = grid;
+    }
+
+    /// The next motion fails with `failure` (the robot stays where it is); queued in order.
+    pub fn script_move(&mut self, failure: ActionFailure) {
+        self.moves.push_back(failure);
+    }
+
+    /// The reply of the next view: its detections or a failure; queued in order. Views beyond
+    /// the scripted ones see the placed objects.
+    pub fn script_view(&mut self, reply: ActionResult<Vec<Detection>>) {
+        self.views.push_back(reply);
+    }
+
+    /// An object every view sees while its position lies inside the image, reported as given.
+    pub fn place(&mut self, object: Detection) {
+        self.objects.push(object);
+    }
+
+    /// Every call the agent made so far, in order.
+    pub fn calls(&self) -> &[Call] {
+        &self.calls
+    }
+
+    /// The views asked for so far, in order.
+    pub fn views(&self) -> Vec<ViewCone> {
+        self.calls
+            .iter()
+            .filter_map(|c| match c {
+                Call::View(v, _) => Some(*v),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Whether `p` (x, y, height) lies inside the image of `cone` taken from the cone's pose.
+    pub fn in_image(&self, cone: &ViewCone, p: [f64; 3]) -> bool {
+        let (dx, dy) = (p[0] - cone.pose.x, p[1] - cone.pose.y);
+        let horiz = dx.hypot(dy);
+        if horiz < 1e-9 {
+            return false;
+        }
+        let yaw = dy.atan2(dx) - cone.camera_yaw();
+        let yaw =
+            (yaw + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+        let el = (p[2] - self.camera.height).atan2(horiz) - cone.tilt;
+        yaw.abs() <= 0.5 * self.camera.hfov / cone.zoom
+            && el.abs() <= 0.5 * self.camera.vfov / cone.zoom
+    }
+}
+
+impl Robot for ScriptedRobot {
+    fn pose(&self) -> Pose2D {
+        self.pose
+    }
+
+    fn camera(&self) -> Camera {
+        self.camera
+    }
+
+    fn odometry(&self) -> f64 {
+        self.odometry
+    }
+
+    fn move_to(&mut self, goal: Pose2D) -> ActionResult<MoveReport> {
+        self.calls.push(Call::Move(goal));
+        if let Some(f) = self.moves.pop_front() {
+            return Err(f);
+        }
+        let travelled = self.pose.distance(&goal);
+        self.odometry += travelled;
+        self.pose = goal;
+        Ok(MoveReport {
+            pose: goal,
+            travelled,
+        })
+    }
+
+    fn map_update(&mut self) -> MapUpdate {
+        self.calls.push(Call::MapUpdate);
+        let known = self.grid.cells().len() - self.grid.count(Cell::Unknown);
+        let newly_known = known.saturating_sub(self.known_reported);
+        self.known_reported = known;
+        MapUpdate {
+            grid: self.grid.clone(),
+            newly_known,
+        }
+    }
+
+    fn process_view_cone(
+        &mut self,
+        cone: &ViewCone,
+        classes: &[String],
+    ) -> ActionResult<ViewReport> {
+        self.calls.push(Call::View(*cone, classes.to_vec()));
+        cone.check(&self.camera)?;
+        let travelled = self.pose.distance(&cone.pose);
+        self.odometry += travelled;
+        self.pose = cone.pose;
+        let detections = match self.views.pop_front() {
+            Some(reply) => reply?,
+            None => self
+                .objects
+                .iter()
+                .filter(|o| classes.contains(&o.class))
+                .filter(|o| self.in_image(cone, [o.pose.x, o.pose.y, o.pose.z]))
+                .cloned()
+                .collect(),
+        };
+        Ok(ViewReport {
+            pose: self.pose,
+            detections,
+            travelled,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{FailureReason, Point3};
+
+    fn robot() -> ScriptedRobot {
+        let grid = OccupancyGrid::from_ascii("######\n#....#\n#....#\n######", 0.5, [0.0, 0.0])
+            .expect("valid map");
+        ScriptedRobot::new(grid, Pose2D::new(0.75, 0.75, 0.0), Camera::default())
+    }
+
+    fn mug(x: f64, y: f64) -> Detection {
+        Detection {
+            class: "mug".into(),
+            pose: Point3 { x, y, z: 1.2 },
+            confidence: 0.8,
+        }
+    }
+
+    #[test]
+    fn a_placed_object_is_seen_only_inside_the_image() {
+        let mut r = robot();
+        r.place(mug(2.25, 0.75));
+        let ahead = ViewCone::new(r.pose(), 0.0, 0.0, 1.0);
+        let behind = ViewCone::new(r.pose(), std::f64::consts::PI, 0.0, 1.0);
+        let mug_only = ["mug".to_string()];
+        assert_eq!(
+            r.process_view_cone(&ahead, &mug_only)
+                .unwrap()
+                .detections
+                .len(),
+            1
+        );
+        assert!(r
+            .process_view_cone(&behind, &mug_only)
+            .unwrap()
+            .detections
+            .is_empty());
+        assert!(r
+            .process_view_cone(&ahead, &["cup".to_string()])
+            .unwrap()
+            .detections
+            .is_empty());
+    }
+
+    #[test]
+    fn scripted_replies_come_first_and_in_order() {
+        let mut r = robot();
+        r.place(mug(2.25, 0.75));
+        r.script_view(Ok(vec![]));
+        r.script_view(Err(ActionFailure::new(
+            FailureReason::ExecutionFailed,
+            "no image",
+        )));
+        let cone = ViewCone::new(r.pose(), 0.0, 0.0, 1.0);
+        let classes = ["mug".to_string()];
+        assert!(r
+            .process_view_cone(&cone, &classes)
+            .unwrap()
+            .detections
+            .is_empty());
+        assert!(r.process_view_cone(&cone, &classes).is_err());
+        assert_eq!(
+            r.process_view_cone(&cone, &classes)
+                .unwrap()
+                .detections
+                .len(),
+            1
+        );
+        assert_eq!(r.views().len(), 3);
+    }
+
+    #[test]
+    fn a_scripted_move_failure_leaves_the_robot_in_place_and_odometry_counts_the_rest() {
+        let mut r = robot();
+        r.script_move(ActionFailure::new(FailureReason::Unreachable, "door shut"));
+        let goal = Pose2D::new(2.25, 0.75, 0.0);
+        assert_eq!(
+            r.move_to(goal).unwrap_err().reason,
+            FailureReason::Unreachable
+        );
+        assert_eq!(r.odometry(), 0.0);
+        r.move_to(goal).unwrap();
+        assert!((r.odometry() - 1.5).abs() < 1e-12);
+        assert_eq!(r.pose(), goal);
+    }
+
+    #[test]
+    fn the_first_map_update_counts_every_known_cell_and_later_ones_only_the_change() {
+        let mut r = robot();
+        let first = r.map_update();
+        assert_eq!(first.newly_known, 24);
+        assert_eq!(r.map_update().newly_known, 0);
+    }
+
+    #[test]
+    fn a_view_outside_the_camera_limits_is_refused() {
+        let mut r = robot();
+        let cone = ViewCone::new(r.pose(), 0.0, -1.5, 1.0);
+        let e = r.process_view_cone(&cone, &[]).unwrap_err();
+        assert_eq!(e.reason, FailureReason::InvalidRequest);
+    }
+}
