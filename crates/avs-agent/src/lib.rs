@@ -1,13 +1,27 @@
 //! # avs-agent
 //!
 //! The agent of avs: the switching planner's executive ([`Agent`], Aydemir et al. 2011, `002`
-//! §II-A), the boundary between the agent and a robot (the [`Robot`] trait and its plain data
-//! types), the agent's [`world_model`] (place map and conceptual map in step) and the plan
-//! [`trace`]. A real robot implements [`Robot`] with its own drivers; the simulator (`avs-sim`,
-//! module `sim_robot`) implements it with the knowledge file's sensor models. The agent never
-//! reads ground truth: everything it learns comes through the trait, as a real robot would report
-//! it (its pose estimate, the laser map, detections with estimated poses and confidences, and
-//! action outcomes, including failures with a reason).
+//! §II-A) over a robot behind the [`Robot`] trait (crate `avs-robot`, re-exported here), the
+//! agent's [`world_model`] (place map and conceptual map in step) and the plan [`trace`]. A
+//! real robot implements [`Robot`] with its own drivers; the simulator (`avs-sim`) implements
+//! it with the knowledge file's sensor models; [`ScriptedRobot`] is a test double. The agent
+//! never reads ground truth: everything it learns comes through the trait, as a real robot
+//! would report it (its pose estimate, the laser map, detections with estimated poses and
+//! confidences, and action outcomes, including failures with a reason).
+//!
+//! ## Where things live
+//!
+//! | module | what it holds |
+//! |---|---|
+//! | [`executive`] | [`Agent`]: the loop that plans, executes, monitors and replans |
+//! | `memory` | what the agent knows between goals: world model, laser map, placeholders under stable names, found objects, view cones, rejected sightings; room and path queries; the sync with the map |
+//! | `body` | the only code that moves the robot, points the camera and reads the laser map |
+//! | `binding` | the planning problem built from memory, plan names ⇄ typed values, plan steps read once into typed actions, the domain check at [`Agent::new`], the domain's functions from the conceptual map |
+//! | `skills` | one module per skill: look-around, enter, view planning (CREATEVIEWCONES), the view-cone session (SEARCHFOROBJECT), verification |
+//! | `strategy` | the coverage: the two baselines and the planner's last resort |
+//! | [`config`] | [`AgentConfig`], [`Strategy`], [`Tuning`] (every constant of the executive, with its reason) |
+//! | [`reason`] | [`ReplanReason`], [`GiveUpReason`]: why it replans, why it gives up |
+//! | [`report`], [`trace`] | what a search returns; the plan trace as events, text and JSON lines |
 //!
 //! One call per goal: [`Agent::search`] keeps the maps current from robot feedback, asks the
 //! assumptive continual planner (`avs-plan`) for the plan minimising cost(π) + R·(1 − p(π)),
@@ -17,18 +31,29 @@
 //! not looked at before it gives up. The agent keeps its maps between goals.
 //!
 //! ```
-//! use avs_agent::{Agent, AgentConfig, Goal};
-//! use avs_sim::sim_robot::{SimAgentRobot, SimRobotConfig};
+//! use avs_agent::{Agent, AgentConfig, Camera, Detection, Goal, Point3, Pose2D, ScriptedRobot};
+//! use avs_map::grid::OccupancyGrid;
 //! let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-//! let world = avs_sim::World::load(&root.join("domains/environments/office.yaml")).unwrap();
 //! let knowledge: avs_format::knowledge::Knowledge =
 //!     avs_format::load_yaml(&root.join("knowledge/office.yaml")).unwrap();
 //! let domain = avs_plan::domain::Domain::load(&root.join("domains/object_search.yaml")).unwrap();
-//! let mut robot = SimAgentRobot::new(&world, knowledge.clone(), SimRobotConfig::default(), 1).unwrap();
+//! // A 4 m × 3 m room the laser knows whole, with a cereal box on the floor in a corner.
+//! let mut map = String::from("##########\n");
+//! for _ in 0..6 {
+//!     map.push_str("#........#\n");
+//! }
+//! map.push_str("##########");
+//! let grid = OccupancyGrid::from_ascii(&map, 0.5, [0.0, 0.0]).unwrap();
+//! let mut robot = ScriptedRobot::new(grid, Pose2D::new(1.25, 1.25, 0.0), Camera::default());
+//! robot.place(Detection {
+//!     class: "cerealbox".into(),
+//!     pose: Point3 { x: 3.6, y: 2.6, z: 0.14 },
+//!     confidence: 0.8,
+//! });
 //! let mut agent = Agent::new(domain, knowledge, AgentConfig::default()).unwrap();
 //! let report = agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
-//! let found = report.found.expect("the cerealbox is in the kitchen");
-//! assert_eq!(found.class, "cerealbox");
+//! let found = report.found.expect("the room is covered and the box verified");
+//! assert!(found.pose.planar_distance(3.6, 2.6) < 0.1);
 //! print!("{}", avs_agent::trace::render_text(&report.trace));
 //! ```
 //!
@@ -165,7 +190,7 @@
 //!   and the coverage before giving up) looks on the floor and on the tops of every surface
 //!   class (tables, counters, desks), not only those the knowledge puts the class on; the
 //!   coverage before giving up also looks around in the rooms it enters first, and looks at
-//!   the parts of known furniture tops the laser never saw (module `agent::baseline`).
+//!   the parts of known furniture tops the laser never saw (module `strategy`).
 //! * **Detections** count from confidence 0.2 (`min_confidence`). The simulated detector's
 //!   confidence is its detection probability at the estimated geometry, at most 1 − FN = 0.8;
 //!   at 0.5 a real object near the border of a view or the far end of the range was dropped one
@@ -192,24 +217,46 @@
 //!   verification in ten, and when one failure sufficed the target could be lost for good
 //!   (bench floor 4: the cereal box on the kitchen counter, rejected after two missed looks,
 //!   was seen again but never looked at, and the search gave up after 650 m).
-//! * **Baselines** ([`agent::Strategy`]): `uninformed` covers the nearest room not yet covered
+//! * **Baselines** ([`Strategy`]): `uninformed` covers the nearest room not yet covered
 //!   by view planning (Sjöö et al. `004`), `frontier` goes to the nearest frontier and covers
 //!   each room it finds itself in; both use the same robot, place map, view planning and
-//!   verification and no prior knowledge (module `agent::baseline`).
+//!   verification and no prior knowledge (module `strategy`).
 //! * **Determinism.** Trace events carry no wall-clock times; with the planner's default expansion
 //!   budgets and a seeded robot, the same seed gives byte-identical JSON lines.
 #![warn(missing_docs)]
 
-pub mod agent;
+mod binding;
+mod body;
+pub mod config;
+mod error;
+pub mod executive;
+mod geometry;
+mod memory;
+pub mod reason;
+pub mod report;
+mod run;
+mod skills;
+mod strategy;
 pub mod trace;
 pub mod world_model;
 
-pub use agent::{Agent, AgentConfig, AgentError, FoundObject, Goal, Metrics, SearchReport};
+pub use config::{AgentConfig, Strategy, Tuning};
+pub use error::AgentError;
+pub use executive::Agent;
+pub use reason::{GiveUpReason, MoveFailure, ReplanReason};
+pub use report::{median, FoundObject, Goal, Metrics, SearchReport};
 pub use trace::{Event, TraceSink};
 
 /// The robot boundary (trait, plain data, scripted double), re-exported.
 pub use avs_robot;
 pub use avs_robot::{
     ActionFailure, ActionResult, Camera, Detection, FailureReason, MapUpdate, MoveReport, Point3,
-    Pose2D, Robot, ViewCone, ViewReport,
+    Pose2D, Robot, ScriptedRobot, ViewCone, ViewReport,
 };
+
+/// The former module path of [`Strategy`] and [`median`], kept until the CLI moves to the
+/// crate root.
+pub mod agent {
+    pub use crate::config::Strategy;
+    pub use crate::report::median;
+}

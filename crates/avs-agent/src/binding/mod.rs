@@ -1,0 +1,349 @@
+//! The binding between the agent's memory and the planning problem: [`Binding::of`] builds
+//! the problem of the world as the agent knows it (objects, facts, initial state, goal) and
+//! keeps what each of its names stands for; [`Binding::action`] reads a plan step back, once,
+//! into a typed [`Action`] over those values; [`check_domain`] makes sure, when the agent is
+//! made, that the domain has every operator, function, variable and relation the binding and
+//! the executive use. Names are made in one place ([`names`]) and read back only through the
+//! binding's tables, never parsed.
+
+mod action;
+mod probs;
+
+pub(crate) use action::{check_domain, Action, ObjArg, PlaceArg};
+pub(crate) use probs::Probs;
+
+use crate::memory::{ConeLoc, Memory, Target};
+use avs_concepts::RoomId;
+use avs_format::knowledge::{Knowledge, Relation};
+use avs_map::places::dist;
+use avs_plan::problem::Problem;
+use petgraph::graph::NodeIndex;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+
+/// The plan names of the agent's values: the one place they are made.
+pub(crate) mod names {
+    use crate::memory::Target;
+    use avs_concepts::RoomId;
+    use petgraph::graph::NodeIndex;
+
+    /// `place<N>` for node `N` of the place map.
+    pub fn place(n: NodeIndex) -> String {
+        format!("place{}", n.index())
+    }
+    /// `placeholder<K>` for the placeholder with stable id `K`.
+    pub fn placeholder(id: usize) -> String {
+        format!("placeholder{id}")
+    }
+    /// `room<R>` for room `R`.
+    pub fn room(r: RoomId) -> String {
+        format!("room{}", r.0)
+    }
+    /// `object<K>` for the `K`-th found object.
+    pub fn object(k: usize) -> String {
+        format!("object{k}")
+    }
+    /// The name of a target.
+    pub fn target(t: Target) -> String {
+        match t {
+            Target::Place(n) => place(n),
+            Target::Placeholder(id) => placeholder(id),
+        }
+    }
+}
+
+/// What a placeholder's name stands for in the problem.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum PhRef {
+    /// An open placeholder: its id in the conceptual map.
+    Current(u64),
+    /// An explored one: the room it led to, if any.
+    Explored(Option<RoomId>),
+}
+
+/// The problem handed to the planner and the meaning of its names.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Binding {
+    pub problem: Problem,
+    /// Position of every place and placeholder of the problem.
+    pub pos: HashMap<String, [f64; 2]>,
+    /// What every place and placeholder of the problem is.
+    pub targets: HashMap<String, Target>,
+    pub placeholders: HashMap<String, PhRef>,
+    /// Position of the place each placeholder hangs off.
+    pub attach: HashMap<String, [f64; 2]>,
+    pub rooms: HashMap<String, RoomId>,
+    pub objects: HashMap<String, usize>,
+    /// The object classes that can lead to the goal: its own class and the landmark classes
+    /// it (or another such class) may lie on. Assuming any other object exists cannot help a
+    /// plan, so those assumptions get probability 0 and are not grounded.
+    pub relevant: BTreeSet<String>,
+}
+
+/// The goal's class and, transitively, the landmark classes an object of a relevant class lies
+/// on with a positive rate in some room category (the relation of the domain's
+/// `assume-object-exists-on`). Only these can take part in a plan for the goal.
+pub(crate) fn relevant_classes(knowledge: &Knowledge, goal: &str) -> BTreeSet<String> {
+    let mut relevant = BTreeSet::from([goal.to_string()]);
+    let mut todo = vec![goal.to_string()];
+    while let Some(l) = todo.pop() {
+        for r in &knowledge.landmark_rates {
+            if r.object == l
+                && r.relation == Relation::On
+                && r.rates.iter().any(|&x| x > 0.0)
+                && relevant.insert(r.landmark.clone())
+            {
+                todo.push(r.landmark.clone());
+            }
+        }
+    }
+    relevant
+}
+
+impl Binding {
+    /// The planning problem of the world as `mem` knows it now, for finding `goal`.
+    pub fn of(mem: &Memory, knowledge: &Knowledge, goal: &str) -> Self {
+        let wm = &mem.wm;
+        let mut s = Binding::default();
+        let mut p = Problem::new();
+        for c in &knowledge.room_categories {
+            p = p.object(c, "category");
+        }
+        for c in &knowledge.object_classes {
+            p = p.object(&c.name, "label");
+            if c.landmark {
+                p = p.fact(&format!("landmark({})", c.name));
+            }
+        }
+        s.relevant = relevant_classes(knowledge, goal);
+        for (r, _) in wm.rooms() {
+            let n = names::room(r);
+            p = p
+                .object(&n, "room")
+                .init(&format!("category({n}) = unknown"));
+            s.rooms.insert(n, r);
+        }
+        let mut in_plan: BTreeMap<NodeIndex, RoomId> = BTreeMap::new();
+        for n in wm.places.graph.node_indices() {
+            if mem.blocked.contains(&n) {
+                continue;
+            }
+            let Some(r) = mem.room_for(n) else { continue };
+            let name = names::place(n);
+            p = p
+                .object(&name, "place")
+                .fact(&format!("in-room({name}, {})", names::room(r)));
+            s.pos.insert(name.clone(), wm.places.graph[n].pos);
+            s.targets.insert(name, Target::Place(n));
+            in_plan.insert(n, r);
+        }
+        for (a, b, _) in wm.places.paths() {
+            if in_plan.contains_key(&a) && in_plan.contains_key(&b) {
+                let (na, nb) = (names::place(a), names::place(b));
+                p = p
+                    .fact(&format!("connected({na}, {nb})"))
+                    .fact(&format!("connected({nb}, {na})"));
+            }
+        }
+        let nearest_in_plan = |pos: [f64; 2]| {
+            in_plan
+                .keys()
+                .min_by(|&&a, &&b| {
+                    dist(wm.places.graph[a].pos, pos).total_cmp(&dist(wm.places.graph[b].pos, pos))
+                })
+                .copied()
+        };
+        let mut open: BTreeMap<RoomId, usize> = BTreeMap::new();
+        let add_ph = |p: Problem,
+                      name: &str,
+                      pos: [f64; 2],
+                      attach: Option<NodeIndex>,
+                      leads: String|
+         -> (Problem, Option<RoomId>) {
+            let attach = attach
+                .filter(|a| in_plan.contains_key(a))
+                .or_else(|| nearest_in_plan(pos));
+            let Some(a) = attach else { return (p, None) };
+            let r = in_plan[&a];
+            let pa = names::place(a);
+            let p = p
+                .object(name, "place")
+                .fact(&format!("placeholder({name})"))
+                .fact(&format!("in-room({name}, {})", names::room(r)))
+                .fact(&format!("connected({pa}, {name})"))
+                .fact(&format!("connected({name}, {pa})"))
+                .init(&format!("leads-to({name}) = {leads}"));
+            (p, Some(r))
+        };
+        for (k, c) in &mem.phs {
+            let e = &mem.registry[*k];
+            if e.explored.is_some() {
+                continue;
+            }
+            let name = names::placeholder(e.id);
+            let (q, r) = add_ph(p, &name, c.pos, Some(c.attach), "unknown".into());
+            p = q;
+            if let Some(a) = wm.places.graph.node_weight(c.attach) {
+                s.attach.insert(name.clone(), a.pos);
+            }
+            if let Some(r) = r {
+                *open.entry(r).or_default() += 1;
+                s.pos.insert(name.clone(), c.pos);
+                s.targets.insert(name.clone(), Target::Placeholder(e.id));
+                s.placeholders.insert(name, PhRef::Current(c.cm_id));
+            }
+        }
+        for e in &mem.registry {
+            let Some((_, led)) = e.explored else { continue };
+            let name = names::placeholder(e.id);
+            let led_room = led.and_then(|n| wm.room_of(n));
+            let leads = led_room.map_or("none".to_string(), names::room);
+            let (q, r) = add_ph(p, &name, e.pos, None, leads);
+            p = q;
+            if r.is_some() {
+                s.pos.insert(name.clone(), e.pos);
+                s.targets.insert(name.clone(), Target::Placeholder(e.id));
+                s.placeholders.insert(name, PhRef::Explored(led_room));
+            }
+        }
+        for (r, _) in wm.rooms() {
+            let n = open.get(&r).copied().unwrap_or(0).min(9);
+            p = p.init(&format!("open-placeholders({}) = n{n}", names::room(r)));
+        }
+        // Found objects (landmarks and sightings); landmarks searched in vain for the goal are
+        // left out so that the planner does not assume the goal on them again.
+        for (k, o) in mem.objects.iter().enumerate() {
+            if mem.exhausted.contains(&(k, goal.to_string())) {
+                continue;
+            }
+            let Some(r) = mem.room_for(o.place) else {
+                continue;
+            };
+            let name = names::object(k);
+            p = p
+                .object(&name, "object")
+                .init(&format!("class({name}) = {}", o.class))
+                .init(&format!("located-in({name}) = {}", names::room(r)))
+                .init(&format!("found({name}) = yes"));
+            let on =
+                o.on.filter(|j| !mem.exhausted.contains(&(*j, goal.to_string())))
+                    .map_or("none".to_string(), names::object);
+            p = p.init(&format!("located-on({name}) = {on}"));
+            s.objects.insert(name, k);
+        }
+        for (l, loc) in mem.cones.keys() {
+            match *loc {
+                ConeLoc::Room(r) if s.rooms.contains_key(&names::room(RoomId(r))) => {
+                    p = p.init(&format!("cones-in({l}, {}) = yes", names::room(RoomId(r))));
+                }
+                ConeLoc::On(k) if s.objects.contains_key(&names::object(k)) => {
+                    p = p.init(&format!("cones-on({l}, {}) = yes", names::object(k)));
+                }
+                _ => {}
+            }
+        }
+        // The robot is at the place it last moved to if it stands there (a door place or a
+        // placeholder), else at the place map's current place.
+        let target = mem.last_target.filter(|(t, q)| {
+            dist(*q, mem.at) < mem.tuning.at_place && s.pos.contains_key(&names::target(*t))
+        });
+        let target_room = target.and_then(|(t, _)| {
+            let own = match t {
+                Target::Place(n) => in_plan.get(&n).copied(),
+                Target::Placeholder(_) => None,
+            };
+            own.or_else(|| {
+                let q = s.pos[&names::target(t)];
+                Some(in_plan[&nearest_in_plan(q)?])
+            })
+        });
+        match (target, target_room) {
+            (Some((t, _)), Some(r)) => {
+                p = p
+                    .init(&format!("robot-at = {}", names::target(t)))
+                    .init(&format!("robot-room = {}", names::room(r)));
+            }
+            _ => {
+                if let Some(cur) = mem.current_place().filter(|c| in_plan.contains_key(c)) {
+                    p = p
+                        .init(&format!("robot-at = {}", names::place(cur)))
+                        .init(&format!("robot-room = {}", names::room(in_plan[&cur])));
+                }
+            }
+        }
+        s.problem = p.goal(&format!("reported({goal}) = yes"));
+        if tracing::enabled!(tracing::Level::DEBUG) {
+            for (name, r) in &s.placeholders {
+                tracing::debug!(placeholder = %name, pos = ?s.pos.get(name), what = ?r, "snapshot");
+            }
+        }
+        s
+    }
+
+    /// The placeholder with stable id `id` as a plan argument: its position and the position
+    /// of the place it hangs off, when the problem has them.
+    pub fn placeholder_arg(&self, id: usize) -> PlaceArg {
+        let name = names::placeholder(id);
+        PlaceArg {
+            target: Target::Placeholder(id),
+            pos: self.pos.get(&name).copied(),
+            attach: self.attach.get(&name).copied(),
+            name,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn office() -> Knowledge {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../knowledge/office.yaml");
+        avs_format::load_yaml(std::path::Path::new(path)).unwrap()
+    }
+
+    fn set(names: &[&str]) -> BTreeSet<String> {
+        names.iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn relevant_classes_are_the_goal_and_the_landmarks_it_lies_on() {
+        let k = office();
+        // office.yaml: cereal boxes lie on tables and counters (and *in* shelves, which the
+        // domain's on-landmark search does not use); staplers on desks; markers on tables
+        // and desks.
+        assert_eq!(
+            relevant_classes(&k, "cerealbox"),
+            set(&["cerealbox", "counter", "table"])
+        );
+        assert_eq!(relevant_classes(&k, "stapler"), set(&["desk", "stapler"]));
+        assert_eq!(
+            relevant_classes(&k, "whiteboardmarker"),
+            set(&["desk", "table", "whiteboardmarker"])
+        );
+        assert_eq!(relevant_classes(&k, "table"), set(&["table"]));
+    }
+
+    #[test]
+    fn relevance_follows_landmarks_on_landmarks() {
+        let mut k = office();
+        // Made up: cereal boxes only on mugs; then the landmarks mugs lie on become relevant
+        // (table and desk in office.yaml), but not counters, where mugs have rate 0 here.
+        k.landmark_rates.retain(|r| r.object != "cerealbox");
+        k.landmark_rates.push(avs_format::knowledge::LandmarkRate {
+            object: "cerealbox".into(),
+            relation: Relation::On,
+            landmark: "mug".into(),
+            rates: vec![0.0, 0.1, 0.0],
+        });
+        k.landmark_rates.push(avs_format::knowledge::LandmarkRate {
+            object: "mug".into(),
+            relation: Relation::On,
+            landmark: "counter".into(),
+            rates: vec![0.0, 0.0, 0.0],
+        });
+        assert_eq!(
+            relevant_classes(&k, "cerealbox"),
+            set(&["cerealbox", "desk", "mug", "table"])
+        );
+    }
+}

@@ -1,0 +1,64 @@
+//! The costs and probabilities of the object-search domain, from the conceptual map.
+
+use super::{Binding, PhRef};
+use avs_concepts::{ConceptualMap, Location, PlaceholderId};
+use avs_format::knowledge::Relation;
+use avs_map::places::dist;
+use avs_plan::problem::Functions;
+
+/// Costs and probabilities of the object-search domain from the conceptual map: the domain's
+/// functions (see `domains/object_search.yaml`) over the binding's names.
+pub(crate) struct Probs<'a> {
+    pub binding: &'a Binding,
+    pub cm: &'a ConceptualMap,
+    /// 1 − the knowledge's false-negative rate.
+    pub p_detect: f64,
+    /// Probabilities are kept at least this large (an exact 0 stays 0).
+    pub p_min: f64,
+}
+
+impl Functions for Probs<'_> {
+    fn value(&self, name: &str, args: &[&str]) -> Option<f64> {
+        let s = self.binding;
+        let m = self.cm.model();
+        let cat = |c: &str| m.category(c).ok();
+        let exists = |rate: f64| 1.0 - (-rate).exp();
+        let p = match (name, args) {
+            ("distance", [a, b]) => {
+                return Some(dist(*s.pos.get(*a)?, *s.pos.get(*b)?));
+            }
+            ("p-leads-to-room", [ph, c]) => match s.placeholders.get(*ph)? {
+                PhRef::Current(i) => self.cm.p_category_placeholder(PlaceholderId(*i), c).ok()?,
+                PhRef::Explored(Some(r)) => self.cm.p_category(*r, c).ok()?,
+                PhRef::Explored(None) => 0.0,
+            },
+            ("p-category", [r, c]) => match s.rooms.get(*r) {
+                Some(&room) => self.cm.p_category(room, c).ok()?,
+                // A hypothesised room: the prior (its category is assumed with the room).
+                None => *m.prior.get(cat(c)?)?,
+            },
+            ("p-object-in" | "p-object-on", [l, ..]) if !s.relevant.contains(*l) => 0.0,
+            ("p-object-in", [l, r, c]) => {
+                let k = cat(c)?;
+                match s.rooms.get(*r) {
+                    Some(&room) => exists(*self.cm.rates(Location::Room(room), l).ok()?.get(k)?),
+                    None => exists(*m.room_rates.get(m.class(l).ok()?)?.get(k)?),
+                }
+            }
+            ("p-object-on", [l, lc, c]) => {
+                let k = cat(c)?;
+                let r = m.landmark_rate(m.class(l).ok()?, Relation::On, m.class(lc).ok()?);
+                exists(*r.get(k)?)
+            }
+            ("p-detect", [_]) => self.p_detect,
+            _ => return None,
+        };
+        Some(if p == 0.0 {
+            0.0
+        } else if p.is_finite() {
+            p.clamp(self.p_min, 1.0)
+        } else {
+            self.p_min
+        })
+    }
+}

@@ -1,0 +1,562 @@
+//! The agent's settings: [`AgentConfig`] (what a user sets: budgets, thresholds, costs, the
+//! strategy) and [`Tuning`] (the executive's geometric and statistical constants, each with
+//! the reason for its value), checked once by [`AgentConfig::check`].
+
+use crate::AgentError;
+use avs_map::places::PlaceMapParams;
+use avs_plan::continual::ContinualOptions;
+use avs_pomdp::{DecisionRewards, SessionOptions};
+use serde::Serialize;
+
+/// Settings of the agent.
+#[derive(Debug, Clone)]
+pub struct AgentConfig {
+    /// Place map parameters (place spacing, door widths).
+    pub places: PlaceMapParams,
+    /// Continual planner settings (search, success threshold, assumption bound).
+    pub planner: ContinualOptions,
+    /// View-cone POMDP session settings.
+    pub session: SessionOptions,
+    /// Give up after this many plans.
+    pub max_plans: usize,
+    /// Give up after this many executed actions (the plans' actions; the coverage has its own
+    /// budget, `max_cover_actions`).
+    pub max_actions: usize,
+    /// Actions the coverage may take (the baselines' whole search, or the planner's coverage
+    /// before giving up): moves, explorations and views.
+    pub max_cover_actions: usize,
+    /// Detections below this confidence are ignored.
+    pub min_confidence: f64,
+    /// Detections that confirm something count only from this confidence: a verification
+    /// look (closer, centred and zoomed on a sighting), and the agreeing sightings that make a
+    /// landmark in a look-around.
+    pub confirm_min_confidence: f64,
+    /// The robot's radius, metres (for the agent's own path planning on the known map).
+    pub robot_radius: f64,
+    /// Cost of processing one view cone, in the POMDP's reward unit.
+    pub process_cost: f64,
+    /// Travel cost per metre, in the POMDP's reward unit.
+    pub travel_cost_per_m: f64,
+    /// Rewards of a DT session's declarations, in the same unit as `process_cost` and
+    /// `travel_cost_per_m`.
+    pub session_rewards: DecisionRewards,
+    /// Discount factor of a DT session's POMDP, in (0, 1).
+    pub session_discount: f64,
+    /// Largest number of view cones per location.
+    pub max_cones: usize,
+    /// How the agent decides where to go and look.
+    pub strategy: Strategy,
+    /// When the switching planner would give up (the most promising plan below
+    /// `planner.min_success`, or `max_plans` spent), first cover what its searches have not
+    /// looked at, nearest room first, exploring the placeholders left, as the uninformed
+    /// strategy does ([`crate::strategy`]); give up only when nothing is left. The
+    /// probabilities then only order the search: knowledge that puts the target in the wrong
+    /// room costs path, not the target. `false` gives up at once, as the paper's planner does
+    /// (`002` §III).
+    pub cover_before_giving_up: bool,
+    /// The executive's constants (geometry of looking, verification, exploration).
+    pub tuning: Tuning,
+}
+
+/// How the agent decides where to go and look: the switching planner, or one of the two
+/// baselines the benchmark compares it with (see [`crate::strategy`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Strategy {
+    /// The switching planner: assumptive continual planning over the conceptual map, view-cone
+    /// POMDP sessions, indirect search on landmarks (Aydemir et al. 2011).
+    #[default]
+    Planner,
+    /// No prior knowledge: rooms covered nearest-first by view planning (Sjöö et al., `004`).
+    Uninformed,
+    /// Nearest-frontier exploration, searching each room as it is found.
+    Frontier,
+}
+
+impl std::str::FromStr for Strategy {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "planner" => Ok(Self::Planner),
+            "uninformed" => Ok(Self::Uninformed),
+            "frontier" => Ok(Self::Frontier),
+            _ => Err(format!(
+                "unknown strategy `{s}`; expected planner, uninformed or frontier"
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for Strategy {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Planner => "planner",
+            Self::Uninformed => "uninformed",
+            Self::Frontier => "frontier",
+        })
+    }
+}
+
+impl Default for AgentConfig {
+    fn default() -> Self {
+        Self {
+            places: PlaceMapParams::default(),
+            planner: {
+                let mut o = ContinualOptions::default();
+                o.search.mode = avs_plan::Mode::Optimal;
+                // An optimal plan not found in this many expansions (about a second) is not worth
+                // the robot's waiting: the agent plans again in fast mode (greedy, h^FF). With
+                // 200 000 a floor where every plan is improbable spent minutes planning.
+                o.search.max_expansions = 50_000;
+                // The paper's 0.01 gives up while unexplored rooms remain on floors with many
+                // rooms: a plan into one unexplored room of several succeeds with ~0.01 (P(leads
+                // to a kitchen) × P(counter) × P(object on it) × detection²). Give up only when
+                // the best plan is well below that.
+                o.min_success = 0.002;
+                o
+            },
+            session: {
+                // A smaller offline budget than the solver's default: a session over 24 cones
+                // has 625 product states, and the online look-ahead refines the bounds anyway.
+                let mut o = SessionOptions::default();
+                o.offline.max_trials = 3;
+                o.offline.init_iterations = 40;
+                // Rooms have up to 24 cones: bound the session from below by sweeps over them.
+                o.sweep_bounds = true;
+                o
+            },
+            max_plans: 30,
+            max_actions: 250,
+            // Covering a room for a small object takes many views: for a whiteboard marker on
+            // the floor, about 50–70 zoomed views per office, so two passes over a floor of
+            // seven rooms need about 800. 250 stopped the coverage after three or four rooms.
+            max_cover_actions: 1000,
+            // The detector's confidence is its detection probability at the estimated
+            // geometry (at most 1 − FN = 0.8): at 0.5 a real object near the border of a
+            // planned view or the far end of its range was dropped one look in three (the
+            // uninformed baseline on bench floors 1–20: success 0.30 at 0.5, 0.55 at 0.3, 0.60
+            // at 0.2). False alarms are not told apart by it (their confidence comes from the
+            // same geometry); verification catches them.
+            min_confidence: 0.2,
+            // A verification look is centred on the sighting and made from inside the
+            // recognition range, where a real object shows with confidence near 1 − FN = 0.8;
+            // at 0.2 there, a look-alike on an office desk passed for the cerealbox. Landmarks
+            // are large and seen well; faint sightings only split their clusters.
+            confirm_min_confidence: 0.5,
+            robot_radius: 0.25,
+            process_cost: 1.0,
+            travel_cost_per_m: 0.5,
+            // The reference model's +10 / +5 / −20 (`viewcones2.POMDP`) were made for a few
+            // cones: against the cost of processing and travelling between 24 cones, declaring
+            // "absent" after one look was worth more than searching the room, and the planner
+            // sent the robot back to the same room session after session. A found object is
+            // worth 100 here (about 200 m of travel at 0.5 per metre), a right "absent" 20 and a
+            // wrong declaration −50: a wrong "absent" only thins the room's rate (the planner
+            // may come back) and a wrong "found" is caught by verification, so neither is the
+            // disaster −20 against +10 makes it; with −200, one pass over the cones (which
+            // leaves P(present) near 0.4 at a miss rate of 0.2) was never enough, and the
+            // robot swept every room two or three times.
+            session_rewards: DecisionRewards {
+                found: 100.0,
+                absent: 20.0,
+                wrong: -50.0,
+            },
+            // With γ = 0.95 processing the cone the robot stands at forever costs only
+            // −1 / (1 − γ) = −20, less than a wrong declaration: the session looked at one cone
+            // until the step guard stopped it. At 0.99 that costs −100.
+            session_discount: 0.99,
+            max_cones: 24,
+            strategy: Strategy::Planner,
+            cover_before_giving_up: true,
+            tuning: Tuning::default(),
+        }
+    }
+}
+
+impl AgentConfig {
+    /// Check every value; the error names the first field out of range and what is expected.
+    pub fn check(&self) -> Result<(), AgentError> {
+        const NON_NEGATIVE: &str = "a finite non-negative number";
+        const POSITIVE: &str = "a finite positive number";
+        const PROBABILITY: &str = "a probability in [0, 1]";
+        let r = self.session_rewards;
+        let t = &self.tuning;
+        let finite_pos = |x: f64| x.is_finite() && x > 0.0;
+        let finite_nonneg = |x: f64| x.is_finite() && x >= 0.0;
+        let prob = |x: f64| (0.0..=1.0).contains(&x);
+        let checks: [(&'static str, f64, bool, &'static str); 31] = [
+            (
+                "min_confidence",
+                self.min_confidence,
+                prob(self.min_confidence),
+                PROBABILITY,
+            ),
+            (
+                "confirm_min_confidence",
+                self.confirm_min_confidence,
+                prob(self.confirm_min_confidence),
+                PROBABILITY,
+            ),
+            (
+                "robot_radius",
+                self.robot_radius,
+                finite_nonneg(self.robot_radius),
+                NON_NEGATIVE,
+            ),
+            (
+                "process_cost",
+                self.process_cost,
+                finite_nonneg(self.process_cost),
+                NON_NEGATIVE,
+            ),
+            (
+                "travel_cost_per_m",
+                self.travel_cost_per_m,
+                finite_nonneg(self.travel_cost_per_m),
+                NON_NEGATIVE,
+            ),
+            (
+                "session_rewards.wrong",
+                r.wrong,
+                r.wrong.is_finite(),
+                "a finite number",
+            ),
+            (
+                "session_rewards.found",
+                r.found,
+                r.found.is_finite() && r.found > r.wrong,
+                "a finite number above session_rewards.wrong",
+            ),
+            (
+                "session_rewards.absent",
+                r.absent,
+                r.absent.is_finite() && r.absent > r.wrong,
+                "a finite number above session_rewards.wrong",
+            ),
+            (
+                "session_discount",
+                self.session_discount,
+                self.session_discount > 0.0 && self.session_discount < 1.0,
+                "a number in (0, 1)",
+            ),
+            (
+                "tuning.min_open_area",
+                t.min_open_area,
+                finite_nonneg(t.min_open_area),
+                NON_NEGATIVE,
+            ),
+            (
+                "tuning.at_place",
+                t.at_place,
+                finite_pos(t.at_place),
+                POSITIVE,
+            ),
+            (
+                "tuning.detour_factor",
+                t.detour_factor,
+                t.detour_factor.is_finite() && t.detour_factor >= 1.0,
+                "a finite number of at least 1",
+            ),
+            (
+                "tuning.look_cluster",
+                t.look_cluster,
+                finite_pos(t.look_cluster),
+                POSITIVE,
+            ),
+            (
+                "tuning.unvisited_distance",
+                t.unvisited_distance,
+                finite_pos(t.unvisited_distance),
+                POSITIVE,
+            ),
+            (
+                "tuning.unvisited_spacing",
+                t.unvisited_spacing,
+                finite_pos(t.unvisited_spacing),
+                POSITIVE,
+            ),
+            (
+                "tuning.look_coverage",
+                t.look_coverage,
+                t.look_coverage > 0.0 && t.look_coverage <= 1.0,
+                "a number in (0, 1]",
+            ),
+            (
+                "tuning.enter_depth",
+                t.enter_depth,
+                finite_pos(t.enter_depth),
+                POSITIVE,
+            ),
+            (
+                "tuning.point_spacing",
+                t.point_spacing,
+                finite_pos(t.point_spacing),
+                POSITIVE,
+            ),
+            (
+                "tuning.pose_spacing",
+                t.pose_spacing,
+                finite_pos(t.pose_spacing),
+                POSITIVE,
+            ),
+            (
+                "tuning.cover_range_share",
+                t.cover_range_share,
+                t.cover_range_share > 0.0 && t.cover_range_share <= 1.0,
+                "a number in (0, 1]",
+            ),
+            (
+                "tuning.cover_fov_share",
+                t.cover_fov_share,
+                t.cover_fov_share > 0.0 && t.cover_fov_share <= 1.0,
+                "a number in (0, 1]",
+            ),
+            (
+                "tuning.los_slack",
+                t.los_slack,
+                finite_nonneg(t.los_slack),
+                NON_NEGATIVE,
+            ),
+            (
+                "tuning.assumed_prior",
+                t.assumed_prior,
+                prob(t.assumed_prior),
+                PROBABILITY,
+            ),
+            (
+                "tuning.confirm_radius",
+                t.confirm_radius,
+                finite_pos(t.confirm_radius),
+                POSITIVE,
+            ),
+            (
+                "tuning.verify_hits",
+                t.verify_hits as f64,
+                t.verify_hits >= 1 && t.verify_hits <= t.verify_looks,
+                "at least 1 and at most tuning.verify_looks",
+            ),
+            (
+                "tuning.verify_bearings",
+                t.verify_bearings as f64,
+                t.verify_bearings >= 1,
+                "at least 1",
+            ),
+            (
+                "tuning.cover_passes",
+                t.cover_passes as f64,
+                t.cover_passes >= 1,
+                "at least 1",
+            ),
+            (
+                "tuning.covered_share",
+                t.covered_share,
+                t.covered_share > 0.0 && t.covered_share <= 1.0,
+                "a number in (0, 1]",
+            ),
+            (
+                "tuning.cover_key_resolution",
+                t.cover_key_resolution,
+                finite_pos(t.cover_key_resolution),
+                POSITIVE,
+            ),
+            (
+                "tuning.p_min",
+                t.p_min,
+                t.p_min > 0.0 && t.p_min < 1.0,
+                "a number in (0, 1)",
+            ),
+            (
+                "tuning.look_min_sightings",
+                t.look_min_sightings as f64,
+                t.look_min_sightings >= 1,
+                "at least 1",
+            ),
+        ];
+        for (field, value, ok, expected) in checks {
+            if !ok {
+                return Err(AgentError::Config {
+                    field,
+                    value,
+                    expected,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The executive's constants: where the papers leave a number open, the value chosen and why.
+/// The defaults are what every figure in BENCHMARKS.md was measured with.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tuning {
+    /// Camera tilts of a look-around, radians (the horizon band and the floor and furniture
+    /// tops near the robot).
+    pub look_tilts: [f64; 2],
+    /// Placeholders with less unknown open area behind them cannot hide a room and are
+    /// ignored, m².
+    pub min_open_area: f64,
+    /// The robot stands at a place when within this distance of it, metres.
+    pub at_place: f64,
+    /// A waypoint whose motion is this many times longer than the straight line (plus 1 m)
+    /// means the known map was wrong: the robot stops there.
+    pub detour_factor: f64,
+    /// Sightings of one class closer than this are one object, metres (the pose noise of a
+    /// few metres' range is a few tenths of a metre; false alarms fall anywhere in the view).
+    pub look_cluster: f64,
+    /// Sightings (in overlapping views of one look-around) that make a landmark.
+    pub look_min_sightings: usize,
+    /// Known free space farther than this from every place is unvisited, metres.
+    pub unvisited_distance: f64,
+    /// Places (nearest first) an unvisited area may be attached to.
+    pub attach_candidates: usize,
+    /// Spacing of unvisited-area placeholders, metres.
+    pub unvisited_spacing: f64,
+    /// Share of a room a look-around from one place is taken to cover (the count evidence of
+    /// `observe_objects` is thinned by it).
+    pub look_coverage: f64,
+    /// How far past a placeholder the robot goes when entering it, metres.
+    pub enter_depth: f64,
+    /// Height of small objects searched in a room when the knowledge puts them on no
+    /// landmark class, metres (table height plus a few centimetres).
+    pub small_object_z: f64,
+    /// Passes of the coverage before giving up: one view sees an object inside its planned
+    /// coverage with about 0.6–0.8 (miss rate 0.2, less towards the image border), so one
+    /// pass missed the target on about one floor in four; two miss it on about one in twelve.
+    pub cover_passes: usize,
+    /// Search heights closer than this are one (their middle), metres: from 1 m away, 0.1 m
+    /// of height is under 6°, inside the margin the view planning keeps at the image border;
+    /// two heights for a cereal box (0.89 and 1.04 m) doubled the view planning of the default
+    /// run.
+    pub height_step: f64,
+    /// Spacing of the points of a room searched by view cones, metres.
+    pub point_spacing: f64,
+    /// Tilt limits beyond this (radians, 80°) count as this where the verification
+    /// standpoint's distance is worked out (`|dz| / tan(limit)`, which vanishes towards
+    /// straight down).
+    pub verify_max_tilt: f64,
+    /// Spacing of candidate view poses, metres.
+    pub pose_spacing: f64,
+    /// Looks a DT session may take beyond one per cone (second looks at detections).
+    pub session_extra_looks: usize,
+    /// Share of a class's detection range (from its near end) within which view planning
+    /// counts a point as covered.
+    pub cover_range_share: f64,
+    /// Share of the camera's field of view in which view planning counts a point as covered.
+    pub cover_fov_share: f64,
+    /// Sight lines stop this short of the target point (furniture footprints are in the
+    /// grid), metres.
+    pub los_slack: f64,
+    /// A point counts as resting on a surface down to this far below its top, metres (pose
+    /// estimates of sightings are noisy in height too).
+    pub surface_z_tolerance: f64,
+    /// Slack around a landmark's footprint for detections "on" it, metres.
+    pub on_slack: f64,
+    /// Floor of the DT session's prior for an object the plan assumes in the location.
+    pub assumed_prior: f64,
+    /// Placeholders of a newly entered room the robot visits at most.
+    pub room_explore_steps: usize,
+    /// How far from where it entered a room the robot looks for the room's placeholders,
+    /// metres.
+    pub room_explore_radius: f64,
+    /// A verifying look confirms a sighting when it sees the class this close to it, metres.
+    pub confirm_radius: f64,
+    /// Looks at most to verify a sighting.
+    pub verify_looks: usize,
+    /// Detections needed to verify a sighting (within `verify_looks`).
+    pub verify_hits: usize,
+    /// Sightings of a class where verification failed this many times are ignored from then
+    /// on (a look-alike). One failure is not enough: a real object fails a verification one
+    /// time in ten, and ignoring it for good lost targets for good (see the crate docs,
+    /// "Look-alikes").
+    pub rejections_to_ignore: usize,
+    /// Bearings around a sighting tried as verification viewpoints.
+    pub verify_bearings: usize,
+    /// Guard on the number of DT decisions per session.
+    pub max_dt_steps: usize,
+    /// Probabilities from the conceptual map are kept at least this large (a posterior that
+    /// rounds to nothing still allows a plan); an exact 0 (a rate of 0 in the knowledge, a
+    /// class that cannot lead to the goal, a placeholder known to lead nowhere) stays 0 and
+    /// the operator is not grounded.
+    pub p_min: f64,
+    /// The coverage counts a room as done when its processed views covered this share of its
+    /// points.
+    pub covered_share: f64,
+    /// The coverage remembers points as covered on a grid of this resolution, metres.
+    pub cover_key_resolution: f64,
+    /// Known free space outside every room counts for the coverage when at least this far
+    /// from every place, metres.
+    pub outside_rooms_min: f64,
+}
+
+impl Default for Tuning {
+    fn default() -> Self {
+        Self {
+            look_tilts: [-0.15, -0.5],
+            min_open_area: 1.0,
+            at_place: 0.6,
+            detour_factor: 3.0,
+            look_cluster: 0.7,
+            look_min_sightings: 2,
+            unvisited_distance: 2.5,
+            attach_candidates: 4,
+            unvisited_spacing: 3.0,
+            look_coverage: 0.8,
+            enter_depth: 1.5,
+            small_object_z: 0.8,
+            cover_passes: 2,
+            height_step: 0.2,
+            point_spacing: 0.4,
+            verify_max_tilt: 1.4,
+            pose_spacing: 0.7,
+            session_extra_looks: 3,
+            cover_range_share: 0.8,
+            cover_fov_share: 0.75,
+            los_slack: 0.45,
+            surface_z_tolerance: 0.1,
+            on_slack: 0.3,
+            assumed_prior: 0.8,
+            room_explore_steps: 3,
+            room_explore_radius: 4.0,
+            confirm_radius: 0.6,
+            verify_looks: 3,
+            verify_hits: 2,
+            rejections_to_ignore: 2,
+            verify_bearings: 16,
+            max_dt_steps: 60,
+            p_min: 1e-6,
+            covered_share: 0.8,
+            cover_key_resolution: 0.1,
+            outside_rooms_min: 1.5,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_configuration_passes_its_own_check() {
+        assert!(AgentConfig::default().check().is_ok());
+    }
+
+    #[test]
+    fn an_out_of_range_tuning_value_is_named_in_the_error() {
+        let mut c = AgentConfig::default();
+        c.tuning.verify_hits = 5;
+        let e = c.check().unwrap_err().to_string();
+        assert!(e.contains("tuning.verify_hits"), "{e}");
+        let mut c = AgentConfig::default();
+        c.tuning.cover_fov_share = 0.0;
+        let e = c.check().unwrap_err().to_string();
+        assert!(e.contains("tuning.cover_fov_share"), "{e}");
+    }
+
+    #[test]
+    fn strategies_parse_from_and_print_as_their_names() {
+        for s in [Strategy::Planner, Strategy::Uninformed, Strategy::Frontier] {
+            assert_eq!(s.to_string().parse::<Strategy>(), Ok(s));
+        }
+        assert!("random".parse::<Strategy>().is_err());
+    }
+}

@@ -1,0 +1,524 @@
+//! The switching planner's executive (Aydemir et al. 2011, `002` §II-A): [`Agent::search`]
+//! keeps the memory current from the body's feedback, asks the assumptive continual planner
+//! for a plan, runs it step by step through the skills, monitors the rest of the plan after
+//! every step and replans with the reason, and, when no plan clears the success threshold,
+//! hands over to the coverage ([`crate::strategy`]) before it gives up.
+
+use crate::binding::{check_domain, Action, Binding, PlaceArg, Probs};
+use crate::body::Body;
+use crate::config::{AgentConfig, Strategy};
+use crate::memory::Memory;
+use crate::reason::{GiveUpReason, ReplanReason};
+use crate::report::{FoundObject, Goal, SearchReport};
+use crate::run::{Run, StepEnd};
+use crate::skills::enter::enter;
+use crate::skills::look_around::{look_around, look_around_if_new};
+use crate::skills::session::{dt_search, Search};
+use crate::skills::views::create_cones;
+use crate::skills::Ctx;
+use crate::strategy::{baseline_loop, cover_all};
+use crate::trace::{Event, TraceSink};
+use crate::world_model::WorldModel;
+use crate::AgentError;
+use avs_concepts::ConceptualMap;
+use avs_format::knowledge::Knowledge;
+use avs_plan::continual::{ActivePlan, ContinualPlanner, Decision, Replan, Verdict};
+use avs_plan::domain::Domain;
+use avs_robot::Robot;
+use std::collections::BTreeSet;
+use std::time::Instant;
+
+/// The agent: one per robot; [`Agent::search`] once per goal. The memory is kept between
+/// goals.
+#[derive(Debug, Clone)]
+pub struct Agent {
+    planner: ContinualPlanner,
+    /// The same planner in fast mode: used when the configured search hits its limit.
+    fallback: ContinualPlanner,
+    knowledge: Knowledge,
+    config: AgentConfig,
+    memory: Option<Memory>,
+}
+
+/// How a search ends.
+type End = Result<FoundObject, GiveUpReason>;
+
+impl Agent {
+    /// An agent for a planning domain and a knowledge file. Rejects a configuration value out
+    /// of range, knowledge the conceptual map cannot use, and a domain without an operator,
+    /// function, variable or relation the executive uses (the error names it).
+    pub fn new(
+        domain: Domain,
+        knowledge: Knowledge,
+        config: AgentConfig,
+    ) -> Result<Self, AgentError> {
+        config.check()?;
+        check_domain(&domain)?;
+        // Fail early on knowledge the conceptual map cannot use.
+        ConceptualMap::new("knowledge", &knowledge)?;
+        Ok(Self {
+            fallback: ContinualPlanner::new(domain.clone(), {
+                let mut o = config.planner;
+                o.search.mode = avs_plan::Mode::Fast;
+                o
+            }),
+            planner: ContinualPlanner::new(domain, config.planner),
+            knowledge,
+            config,
+            memory: None,
+        })
+    }
+
+    /// Search for `goal` with `robot`; the trace is returned in the report.
+    pub fn search<R: Robot + ?Sized>(
+        &mut self,
+        robot: &mut R,
+        goal: Goal,
+    ) -> Result<SearchReport, AgentError> {
+        let mut sink = |_: &Event| {};
+        self.search_with(robot, goal, &mut sink)
+    }
+
+    /// Search for `goal`, handing every trace event to `sink` as it happens.
+    pub fn search_with<R: Robot + ?Sized>(
+        &mut self,
+        robot: &mut R,
+        goal: Goal,
+        sink: &mut dyn TraceSink,
+    ) -> Result<SearchReport, AgentError> {
+        if self.knowledge.class(&goal.class).is_none() {
+            return Err(AgentError::UnknownClass {
+                class: goal.class.clone(),
+                known: self
+                    .knowledge
+                    .object_classes
+                    .iter()
+                    .map(|c| c.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            });
+        }
+        let mut body = Body::new(robot);
+        let start_odo = body.odometry();
+        let mut run = Run::new(sink, self.config.tuning.cover_key_resolution);
+        run.emit(Event::Started {
+            goal: goal.class.clone(),
+            pose: body.pose3(),
+        });
+        let cx = Ctx {
+            knowledge: &self.knowledge,
+            config: &self.config,
+        };
+        let mem = match &mut self.memory {
+            Some(m) => m,
+            slot => {
+                let wm = WorldModel::new("knowledge", cx.knowledge, cx.config.places.clone())?;
+                let grid = body.laser_map();
+                let mem = slot.insert(Memory::new(
+                    wm,
+                    grid,
+                    cx.config.robot_radius,
+                    cx.config.tuning.clone(),
+                ));
+                body.survey(mem)?;
+                mem
+            }
+        };
+        look_around(cx, mem, &mut body, &mut run)?;
+        let end = match cx.config.strategy {
+            Strategy::Planner => {
+                let planners = Planners {
+                    planner: &self.planner,
+                    fallback: &self.fallback,
+                };
+                main_loop(cx, planners, mem, &mut body, &mut run, &goal)?
+            }
+            s => baseline_loop(cx, mem, &mut body, &mut run, &goal, s)?,
+        };
+        let (found, reason, gave_up) = match end {
+            Ok(f) => {
+                let r = run.goal_reached(&f);
+                (Some(f), r, None)
+            }
+            Err(GiveUpReason::GoalAlreadyHolds) => (
+                None,
+                GiveUpReason::GoalAlreadyHolds.to_string(),
+                Some(GiveUpReason::GoalAlreadyHolds),
+            ),
+            Err(g) => {
+                run.give_up(&g);
+                (None, g.to_string(), Some(g))
+            }
+        };
+        run.metrics.path_length = body.odometry() - start_odo;
+        Ok(SearchReport {
+            found,
+            reason,
+            gave_up,
+            trace: run.events,
+            metrics: run.metrics,
+        })
+    }
+}
+
+/// The continual planner and its fast-mode fallback.
+#[derive(Clone, Copy)]
+struct Planners<'a> {
+    planner: &'a ContinualPlanner,
+    fallback: &'a ContinualPlanner,
+}
+
+/// Plan, execute and monitor until the goal is reached or the planner gives up.
+fn main_loop<R: Robot + ?Sized>(
+    cx: Ctx,
+    planners: Planners,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+    goal: &Goal,
+) -> Result<End, AgentError> {
+    let mut reason = ReplanReason::Initial;
+    let p_detect = 1.0 - cx.knowledge.sensor.false_negative;
+    let p_min = cx.tuning().p_min;
+    loop {
+        if run.metrics.plans >= cx.config.max_plans {
+            let r = GiveUpReason::PlanBudget {
+                plans: run.metrics.plans,
+                class: goal.class.clone(),
+            };
+            return last_resort(cx, mem, body, run, goal, r);
+        }
+        let binding = Binding::of(mem, cx.knowledge, &goal.class);
+        let t0 = Instant::now();
+        let decision = {
+            let f = Probs {
+                binding: &binding,
+                cm: &mem.wm.concepts,
+                p_detect,
+                p_min,
+            };
+            match planners.planner.plan(&binding.problem, &f) {
+                Err(avs_plan::PlanError::SearchLimit(n)) => {
+                    tracing::debug!(expansions = n, "planning again in fast mode");
+                    planners.fallback.plan(&binding.problem, &f)
+                }
+                other => other,
+            }
+        };
+        run.metrics.plan_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        let plan = match decision {
+            Ok(Decision::Plan(p)) => p,
+            Ok(Decision::GoalReached) => return Ok(Err(GiveUpReason::GoalAlreadyHolds)),
+            Ok(Decision::GiveUp(g)) => {
+                return last_resort(cx, mem, body, run, goal, GiveUpReason::Planner(g));
+            }
+            Err(e) => return Ok(Err(GiveUpReason::PlannerFailed(e.to_string()))),
+        };
+        run.metrics.plans += 1;
+        run.emit(Event::PlanMade {
+            plan: run.metrics.plans,
+            reason: reason.to_string(),
+            steps: plan.steps.iter().map(|s| s.display.clone()).collect(),
+            cost: plan.cost,
+            probability: plan.probability,
+        });
+        reason = ReplanReason::PlanEnded;
+        let accepted = {
+            let f = Probs {
+                binding: &binding,
+                cm: &mem.wm.concepts,
+                p_detect,
+                p_min,
+            };
+            accepted_assumptions(planners.planner, &plan, &binding, &f)
+        };
+        // Each step read once into a typed action over the binding's values.
+        let actions: Vec<Result<Action, ReplanReason>> =
+            plan.steps.iter().map(|s| binding.action(s)).collect();
+        let mut i = 0;
+        while i < plan.steps.len() {
+            let action = match &actions[i] {
+                Ok(Action::Assume) => {
+                    i += 1;
+                    continue;
+                }
+                a => a.clone(),
+            };
+            let step = &plan.steps[i];
+            if run.metrics.actions >= cx.config.max_actions {
+                return Ok(Err(GiveUpReason::ActionBudget {
+                    actions: run.metrics.actions,
+                    class: goal.class.clone(),
+                }));
+            }
+            run.metrics.actions += 1;
+            run.emit(Event::ActionStarted {
+                action: step.display.clone(),
+            });
+            // A map update the world model refuses (e.g. a room renamed under a search)
+            // ends the step, not the search: the agent replans from what it knows.
+            let end = match action {
+                Err(r) => StepEnd::Replan(r),
+                Ok(a) => execute(cx, mem, body, run, &plan, i, a, goal).unwrap_or_else(|e| {
+                    StepEnd::Replan(ReplanReason::WorldModelRefused(e.to_string()))
+                }),
+            };
+            let outcome = match &end {
+                StepEnd::Replan(ReplanReason::ActionFailed(f)) => f.to_string(),
+                _ => "ok".to_string(),
+            };
+            run.emit(Event::ActionFinished {
+                action: step.display.clone(),
+                outcome,
+                pose: body.pose3(),
+                path_length: body.odometry(),
+            });
+            match end {
+                StepEnd::Found(f) => {
+                    run.emit(Event::ActionStarted {
+                        action: format!("REPORTPOSITION {}", f.name),
+                    });
+                    return Ok(Ok(f));
+                }
+                StepEnd::Replan(r) => {
+                    reason = r;
+                    break;
+                }
+                StepEnd::Continue => {}
+            }
+            // A move onto a placeholder and its exploration go together: the frontier may
+            // vanish on arrival, before the plan's EXPLORE-PLACEHOLDER step.
+            if let (Ok(Action::Move { to, .. }), Some(Ok(Action::Explore { ph }))) =
+                (&actions[i], actions.get(i + 1))
+            {
+                if to.name == ph.name {
+                    i += 1;
+                    continue;
+                }
+            }
+            look_around_if_new(cx, mem, body, run);
+            // Monitor the rest of the plan against the world as now known.
+            let now = Binding::of(mem, cx.knowledge, &goal.class);
+            let verdict = {
+                let f = Probs {
+                    binding: &now,
+                    cm: &mem.wm.concepts,
+                    p_detect,
+                    p_min,
+                };
+                planners.planner.monitor(&plan, i + 1, &now.problem, &f)
+            };
+            match verdict {
+                Ok(Verdict::Continue) => i += 1,
+                Ok(Verdict::GoalReached) => {
+                    reason = ReplanReason::GoalHolds;
+                    break;
+                }
+                Ok(Verdict::Replan(Replan::AssumptionUnlikely { action, .. }))
+                    if accepted.contains(&action) =>
+                {
+                    i += 1;
+                }
+                Ok(Verdict::Replan(r)) => {
+                    if let Replan::AssumptionContradicted { action, .. }
+                    | Replan::AssumptionUnlikely { action, .. } = &r
+                    {
+                        run.emit(Event::AssumptionViolated {
+                            assumption: action.clone(),
+                            reason: r.to_string(),
+                        });
+                    }
+                    reason = ReplanReason::Monitor(r);
+                    break;
+                }
+                Err(e) => {
+                    reason = ReplanReason::MapChanged(e.to_string());
+                    break;
+                }
+            }
+        }
+    }
+}
+
+/// Assumptions the planner chose although already below the monitor's bound: not a reason
+/// to replan later (the planner would return the same plan).
+fn accepted_assumptions(
+    planner: &ContinualPlanner,
+    plan: &ActivePlan,
+    binding: &Binding,
+    f: &Probs,
+) -> BTreeSet<String> {
+    let mut acc = BTreeSet::new();
+    let mut probe = plan.clone();
+    for _ in 0..plan.steps.len() {
+        match planner.monitor(&probe, 0, &binding.problem, f) {
+            Ok(Verdict::Replan(Replan::AssumptionUnlikely { step, action, .. })) => {
+                acc.insert(action);
+                // Look for more: drop that step from the probe's check.
+                probe.steps[step].probability = 1.0;
+                probe.steps.remove(step);
+            }
+            _ => break,
+        }
+    }
+    acc
+}
+
+/// The planner would give up for `reason`: with
+/// [`AgentConfig::cover_before_giving_up`], cover what is left first ([`crate::strategy`]);
+/// the search's end either way.
+fn last_resort<R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+    goal: &Goal,
+    reason: GiveUpReason,
+) -> Result<End, AgentError> {
+    if !cx.config.cover_before_giving_up {
+        return Ok(Err(reason));
+    }
+    run.observe(format!(
+        "{reason}: covering what no search has looked at, nearest room first"
+    ));
+    // The coverage has an action budget of its own.
+    let spent = run.metrics.actions;
+    run.metrics.actions = 0;
+    let passes = cx.tuning().cover_passes;
+    let end = cover_all(cx, mem, body, run, goal, Strategy::Uninformed, passes, true);
+    run.metrics.actions += spent;
+    Ok(end?.map_err(|e| GiveUpReason::AfterCoverage {
+        planner: Box::new(reason),
+        coverage: Box::new(e),
+    }))
+}
+
+/// Execute step `i` of `plan`, read as `action`.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the four parts of a search (settings, memory, body, run) plus the step"
+)]
+fn execute<R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+    plan: &ActivePlan,
+    i: usize,
+    action: Action,
+    goal: &Goal,
+) -> Result<StepEnd, AgentError> {
+    match action {
+        Action::Assume => Ok(StepEnd::Continue),
+        Action::Move { to, pos } => go(cx, mem, body, run, &to, pos, false),
+        Action::Enter { to, pos } => go(cx, mem, body, run, &to, pos, true),
+        Action::Explore { ph } => {
+            // Explore = look into the space behind it, as when entering: a room found there
+            // enters the map (rooms exist where the robot has been).
+            let room = mem.current_room();
+            enter(cx, mem, body, run, &ph, room)?;
+            Ok(StepEnd::Continue)
+        }
+        Action::CreateCones { label, loc } => {
+            let cam = body.camera();
+            create_cones(cx, mem, &cam, run, &label, loc);
+            Ok(StepEnd::Continue)
+        }
+        Action::Search {
+            label,
+            loc,
+            obj,
+            display,
+        } => {
+            let assumption = plan.steps[..i]
+                .iter()
+                .filter(|s| s.assumption && s.args.iter().any(|a| *a == obj.name))
+                .map(|s| s.display.clone())
+                .next_back();
+            let search = Search {
+                label: &label,
+                loc,
+                obj: &obj,
+                display: &display,
+                assumption,
+            };
+            dt_search(cx, mem, body, run, &search, goal)
+        }
+        Action::Report { object } => Ok(StepEnd::Replan(ReplanReason::NotFound { object })),
+    }
+}
+
+/// MOVE to a place of the plan, or (`entering`) into a placeholder whose room the plan
+/// assumes, entering it. A target found unreachable is marked so.
+fn go<R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+    to: &PlaceArg,
+    pos: [f64; 2],
+    entering: bool,
+) -> Result<StepEnd, AgentError> {
+    let from_room = mem.current_room();
+    if let Err(e) = body.go_to(mem, pos)? {
+        if e.is_unreachable() {
+            mem.mark_unreachable(to.target, to.pos, from_room);
+        }
+        return Ok(StepEnd::Replan(ReplanReason::ActionFailed(e)));
+    }
+    if entering {
+        mem.last_target = None;
+        enter(cx, mem, body, run, to, from_room)?;
+    } else {
+        mem.last_target = Some((to.target, pos));
+    }
+    Ok(StepEnd::Continue)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::skills::testing;
+
+    #[test]
+    fn a_domain_missing_an_operator_the_agent_executes_is_rejected_by_new_naming_it() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../domains/object_search.yaml"
+        );
+        let text = std::fs::read_to_string(path)
+            .unwrap()
+            .replace("  - name: createviewcones-on", "  - name: look-on-top");
+        let domain = Domain::from_yaml("no-cones-on.yaml", &text).expect("still a valid domain");
+        let e = Agent::new(domain, testing::knowledge(), AgentConfig::default()).unwrap_err();
+        let msg = e.to_string();
+        assert!(matches!(e, AgentError::Domain { .. }), "{msg}");
+        assert!(
+            msg.contains("operator `createviewcones-on` is missing"),
+            "{msg}"
+        );
+        assert!(msg.contains("object-search"), "{msg}");
+    }
+
+    #[test]
+    fn an_agent_finds_an_object_in_a_known_room_with_a_scripted_robot() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../domains/object_search.yaml"
+        );
+        let domain = Domain::load(std::path::Path::new(path)).unwrap();
+        let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
+        robot.place(testing::object("cerealbox", 3.6, 2.8, 0.14));
+        let mut agent = Agent::new(domain, testing::knowledge(), AgentConfig::default()).unwrap();
+        let report = agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
+        let text = crate::trace::render_text(&report.trace);
+        let f = report.found.unwrap_or_else(|| panic!("{text}"));
+        assert!(f.pose.planar_distance(3.6, 2.8) < 1e-9, "{text}");
+        assert!(report.gave_up.is_none());
+        assert!(
+            report.reason.starts_with("found cerealbox"),
+            "{}",
+            report.reason
+        );
+    }
+}

@@ -1,0 +1,454 @@
+//! [`Memory`]: what the agent knows and keeps between goals — the world model (place map and
+//! conceptual map in step), the robot's laser map, the placeholders it tracks under stable
+//! names, the objects it found, the view cones it planned, the sightings verification
+//! rejected — and the questions asked of it: which room a point lies in, how long the known
+//! path is, whether a sighting is new. Only [`crate::body::Body`] writes the map; [`sync`]
+//! brings the rest in step with it.
+
+mod sync;
+
+use crate::config::Tuning;
+use crate::world_model::WorldModel;
+use avs_concepts::{LandmarkId, RoomId};
+use avs_format::knowledge::Knowledge;
+use avs_map::grid::{Cell, OccupancyGrid};
+use avs_map::nav::{shortest_path_within, Traversability};
+use avs_map::places::dist;
+use avs_map::raycast::line_of_sight;
+use avs_pomdp::PlannedView;
+use avs_robot::{Detection, Point3};
+use petgraph::graph::NodeIndex;
+use std::cell::RefCell;
+use std::collections::{BTreeMap, BTreeSet};
+
+use crate::geometry::Surface;
+
+/// A placeholder the agent tracks under a stable name.
+#[derive(Debug, Clone)]
+pub(crate) struct PhEntry {
+    /// Its stable id (the plan name is `placeholder<id>`).
+    pub id: usize,
+    pub pos: [f64; 2],
+    /// Set once explored: the room it was explored from and the place it led to, if any.
+    pub explored: Option<(u64, Option<NodeIndex>)>,
+}
+
+/// An object the agent found (landmark or target).
+#[derive(Debug, Clone)]
+pub(crate) struct Known {
+    pub class: String,
+    pub pos: Point3,
+    pub place: NodeIndex,
+    pub landmark: Option<LandmarkId>,
+    /// The known object (index) it lies on.
+    pub on: Option<usize>,
+}
+
+/// Where view cones are planned: a room, or on a known object (index into the objects).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) enum ConeLoc {
+    Room(u64),
+    On(usize),
+}
+
+/// The view cones of one class at one location (CREATEVIEWCONES).
+#[derive(Debug, Clone)]
+pub(crate) struct ConeSet {
+    pub views: Vec<PlannedView>,
+    /// The location's points the cones were planned for.
+    pub points: Vec<[f64; 3]>,
+    /// The points each cone covers (disjoint: each point to its first cone).
+    pub cells: Vec<Vec<usize>>,
+    pub n_points: usize,
+    pub covered_share: f64,
+}
+
+/// A placeholder offered to the planner: a frontier placeholder of the place map, or a known
+/// but unvisited free area (rooms exist only where the robot has been).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Cand {
+    pub pos: [f64; 2],
+    pub attach: NodeIndex,
+    /// Its id in the conceptual map.
+    pub cm_id: u64,
+}
+
+/// A place the robot can be sent to: a node of the place map, or a tracked placeholder (by
+/// its stable id).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub(crate) enum Target {
+    Place(NodeIndex),
+    Placeholder(usize),
+}
+
+/// The agent's long-lived state; see the module docs.
+#[derive(Debug, Clone)]
+pub(crate) struct Memory {
+    pub wm: WorldModel,
+    pub grid: OccupancyGrid,
+    pub registry: Vec<PhEntry>,
+    pub next_ph: usize,
+    pub objects: Vec<Known>,
+    /// Rooms looked around in.
+    pub looked: BTreeSet<u64>,
+    pub cones: BTreeMap<(String, ConeLoc), ConeSet>,
+    /// (object, class): searched on without success.
+    pub exhausted: BTreeSet<(usize, String)>,
+    /// Places that proved unreachable.
+    pub blocked: BTreeSet<NodeIndex>,
+    /// The placeholders offered to the planner: registry index and what it is.
+    pub phs: Vec<(usize, Cand)>,
+    /// Conceptual-map ids of the unvisited-area placeholders set at the last sync.
+    pub extra_ids: Vec<u64>,
+    /// The plan place the robot last moved to, with its position.
+    pub last_target: Option<(Target, [f64; 2])>,
+    /// Sightings a closer look did not confirm: (class, position), one entry per failed
+    /// verification. Sightings of the class where `rejections_to_ignore` verifications
+    /// failed are taken for a look-alike and ignored.
+    pub rejected: Vec<(String, [f64; 2])>,
+    /// The robot's position as last seen.
+    pub at: [f64; 2],
+    /// The room of every cell of `grid` as of the last sync
+    /// ([`avs_map::places::PlaceMap::cell_rooms`]).
+    pub cell_rooms: Vec<Option<usize>>,
+    /// The traversability of the known map for the robot's radius, with unknown cells blocked
+    /// and free, kept until the map changes: path lengths are asked for many times between
+    /// two map updates (every verification standpoint, placeholder and room), and each map
+    /// took a distance transform of the whole grid.
+    trav_cache: RefCell<Vec<(OccupancyGrid, bool, Traversability)>>,
+    robot_radius: f64,
+    pub tuning: Tuning,
+}
+
+/// Length of the shortest path on `trav` from `from` to `to` when it is at most `max_len` metres
+/// and ends within 0.5 m of `to`, metres (the one home of the agent's path-length questions).
+pub(crate) fn path_len_on(
+    trav: &Traversability,
+    from: [f64; 2],
+    to: [f64; 2],
+    max_len: f64,
+) -> Option<f64> {
+    shortest_path_within(trav, from, to, 0.5, max_len)
+        .filter(|p| p.points.last().is_some_and(|e| dist(*e, to) <= 0.5))
+        .map(|p| p.length)
+        .filter(|&l| l <= max_len)
+}
+
+/// Centres of the free cells of `grid` the robot can stand on by `trav`, every `spacing`
+/// metres along rows and columns.
+pub(crate) fn standable(
+    grid: &OccupancyGrid,
+    trav: &Traversability,
+    spacing: f64,
+) -> Vec<[f64; 2]> {
+    let step = (spacing / grid.resolution()).round().max(1.0) as usize;
+    let mut out = Vec::new();
+    for row in (0..grid.height()).step_by(step) {
+        for col in (0..grid.width()).step_by(step) {
+            if grid.get(col, row) == Cell::Free && trav.ok(col as i64, row as i64) {
+                let (x, y) = grid.cell_center(col as i64, row as i64);
+                out.push([x, y]);
+            }
+        }
+    }
+    out
+}
+
+/// Whether a sighting of `class` at `pos` is a known look-alike: verification failed at least
+/// `times` times within `radius` of it.
+pub(crate) fn is_look_alike(
+    rejected: &[(String, [f64; 2])],
+    class: &str,
+    pos: [f64; 2],
+    radius: f64,
+    times: usize,
+) -> bool {
+    rejected
+        .iter()
+        .filter(|(c, p)| c == class && dist(*p, pos) < radius)
+        .count()
+        >= times
+}
+
+impl Memory {
+    /// A memory of nothing yet but the first laser map.
+    pub fn new(wm: WorldModel, grid: OccupancyGrid, robot_radius: f64, tuning: Tuning) -> Self {
+        Self {
+            wm,
+            grid,
+            registry: Vec::new(),
+            next_ph: 0,
+            objects: Vec::new(),
+            looked: BTreeSet::new(),
+            cones: BTreeMap::new(),
+            exhausted: BTreeSet::new(),
+            blocked: BTreeSet::new(),
+            phs: Vec::new(),
+            extra_ids: Vec::new(),
+            last_target: None,
+            rejected: Vec::new(),
+            at: [0.0, 0.0],
+            cell_rooms: Vec::new(),
+            trav_cache: RefCell::new(Vec::new()),
+            robot_radius,
+            tuning,
+        }
+    }
+
+    /// The place the robot is at, or (a door place) the nearest place with a room.
+    pub fn current_place(&self) -> Option<NodeIndex> {
+        let cur = self.wm.places.current_place()?;
+        if self.wm.room_of(cur).is_some() {
+            return Some(cur);
+        }
+        let p = self.wm.places.graph.node_weight(cur)?.pos;
+        self.nearest_room_place(p)
+    }
+
+    /// The room the robot is in.
+    pub fn current_room(&self) -> Option<RoomId> {
+        let p = self.current_place()?;
+        self.wm.room_of(p)
+    }
+
+    /// The room most of `points` lie in now (ties: the lower id).
+    pub fn majority_room(&self, points: &[[f64; 3]]) -> Option<RoomId> {
+        let mut votes: BTreeMap<RoomId, usize> = BTreeMap::new();
+        for p in points {
+            if let Some(r) = self.room_at([p[0], p[1]]) {
+                *votes.entry(r).or_default() += 1;
+            }
+        }
+        votes
+            .into_iter()
+            .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)))
+            .map(|(r, _)| r)
+    }
+
+    /// The room a point lies in: the room of its cell as of the last sync (`None` for space no
+    /// room reaches, such as a room seen through its door but not entered); the room of the
+    /// nearest place before the first sync.
+    pub fn room_at(&self, p: [f64; 2]) -> Option<RoomId> {
+        let (c, r) = self.grid.world_to_cell(p[0], p[1]);
+        if self.cell_rooms.len() == self.grid.width() * self.grid.height() {
+            return if self.grid.contains(c, r) {
+                self.cell_rooms[r as usize * self.grid.width() + c as usize]
+                    .map(|id| RoomId(id as u64))
+            } else {
+                None
+            };
+        }
+        self.nearest_room_place(p).and_then(|n| self.wm.room_of(n))
+    }
+
+    /// The place an object at `p` is filed under: the nearest place of the room it lies in.
+    pub fn object_place(&self, p: [f64; 2]) -> Option<NodeIndex> {
+        let room = self.room_at(p)?;
+        let g = &self.wm.places.graph;
+        self.wm
+            .rooms()
+            .find(|(r, _)| *r == room)
+            .and_then(|(_, places)| {
+                places
+                    .iter()
+                    .copied()
+                    .min_by(|&a, &b| dist(g[a].pos, p).total_cmp(&dist(g[b].pos, p)))
+            })
+            .or_else(|| self.nearest_room_place(p))
+    }
+
+    /// The place with a room nearest to a point.
+    pub fn nearest_room_place(&self, p: [f64; 2]) -> Option<NodeIndex> {
+        let g = &self.wm.places.graph;
+        g.node_indices()
+            .filter(|&n| self.wm.room_of(n).is_some())
+            .min_by(|&a, &b| dist(g[a].pos, p).total_cmp(&dist(g[b].pos, p)))
+    }
+
+    /// Whether a point seen from `from` lies in the same room: the sight line (stopping `slack`
+    /// short) crosses no wall of the known map and no door hypothesis.
+    pub fn same_room(&self, from: [f64; 2], p: [f64; 2], slack: f64) -> bool {
+        let d = dist(from, p);
+        let end = if d > slack {
+            let t = (d - slack) / d;
+            [
+                from[0] + t * (p[0] - from[0]),
+                from[1] + t * (p[1] - from[1]),
+            ]
+        } else {
+            from
+        };
+        line_of_sight(&self.grid, from, end, false)
+            && !self
+                .wm
+                .places
+                .doors
+                .iter()
+                .any(|dr| dr.hypothesis.crossed_by(from, p))
+    }
+
+    /// The room a place belongs to; a door place belongs to its neighbour's room of smallest id.
+    pub fn room_for(&self, n: NodeIndex) -> Option<RoomId> {
+        let wm = &self.wm;
+        wm.room_of(n).or_else(|| {
+            wm.places
+                .graph
+                .neighbors(n)
+                .filter_map(|m| wm.room_of(m))
+                .min()
+        })
+    }
+
+    /// How far short of an object's estimated centre a sight line may stop: half its
+    /// footprint's diagonal (furniture footprints are obstacles of the map) plus the
+    /// estimate's slack.
+    pub fn footprint_slack(&self, knowledge: &Knowledge, class: &str) -> f64 {
+        let slack = self.tuning.los_slack;
+        knowledge
+            .class(class)
+            .map_or(slack, |c| 0.5 * c.size[0].hypot(c.size[1]) + slack)
+    }
+
+    /// The tops of the known furniture that small objects rest on
+    /// ([`crate::geometry::surface_classes`]).
+    pub fn surfaces(&self, knowledge: &Knowledge) -> Vec<Surface> {
+        let kinds = crate::geometry::surface_classes(knowledge, None);
+        self.objects
+            .iter()
+            .filter(|o| o.landmark.is_some() && kinds.contains(o.class.as_str()))
+            .filter_map(|o| {
+                let c = knowledge.class(&o.class)?;
+                let center = [o.pos.x, o.pos.y];
+                Some(Surface {
+                    center,
+                    radius: 0.5 * c.size[0].hypot(c.size[1]),
+                    top: c.size[2],
+                    room: self.room_at(center).or_else(|| self.room_for(o.place)),
+                })
+            })
+            .collect()
+    }
+
+    /// Whether a detection is of nothing the agent knows: no known object of its class within
+    /// 0.8 m and no look-alike rejected there.
+    pub fn is_new_sighting(&self, d: &Detection) -> bool {
+        let t = &self.tuning;
+        !(self
+            .objects
+            .iter()
+            .any(|o| o.class == d.class && o.pos.planar_distance(d.pose.x, d.pose.y) < 0.8)
+            || is_look_alike(
+                &self.rejected,
+                &d.class,
+                [d.pose.x, d.pose.y],
+                t.confirm_radius,
+                t.rejections_to_ignore,
+            ))
+    }
+
+    /// Length of the shortest path on the known map, unknown cells free or blocked, metres.
+    pub fn path_len(&self, from: [f64; 2], to: [f64; 2], unknown_is_free: bool) -> Option<f64> {
+        self.path_len_within(from, to, unknown_is_free, f64::INFINITY)
+    }
+
+    /// [`Self::path_len`] when it is at most `max_len` metres, else `None`; the search stops
+    /// at that length (asking for a short path costs no flood of the map when there is none).
+    pub fn path_len_within(
+        &self,
+        from: [f64; 2],
+        to: [f64; 2],
+        unknown_is_free: bool,
+        max_len: f64,
+    ) -> Option<f64> {
+        self.with_trav(unknown_is_free, |t| path_len_on(t, from, to, max_len))
+    }
+
+    /// `f` of the traversability of the known map for the robot's radius (unknown cells free
+    /// or blocked), computed once per map (see `trav_cache`).
+    pub fn with_trav<T>(&self, unknown_is_free: bool, f: impl FnOnce(&Traversability) -> T) -> T {
+        let grid = &self.grid;
+        let mut cache = self.trav_cache.borrow_mut();
+        let k = match cache
+            .iter()
+            .position(|(g, free, _)| *free == unknown_is_free && g == grid)
+        {
+            Some(k) => k,
+            None => {
+                cache.retain(|(_, free, _)| *free != unknown_is_free);
+                let t = Traversability::new(grid, self.robot_radius, unknown_is_free);
+                cache.push((grid.clone(), unknown_is_free, t));
+                cache.len() - 1
+            }
+        };
+        f(&cache[k].2)
+    }
+
+    /// Mark the placeholder with stable id `id` explored from room `origin`, leading to `led`
+    /// (kept if it was explored before); `pos` files it when the registry forgot it.
+    pub fn set_explored(
+        &mut self,
+        id: usize,
+        pos: Option<[f64; 2]>,
+        origin: u64,
+        led: Option<NodeIndex>,
+    ) {
+        match self.registry.iter_mut().find(|e| e.id == id) {
+            Some(e) => {
+                if e.explored.is_none() {
+                    e.explored = Some((origin, led));
+                }
+            }
+            None => {
+                if let Some(pos) = pos {
+                    self.registry.push(PhEntry {
+                        id,
+                        pos,
+                        explored: Some((origin, led)),
+                    });
+                }
+            }
+        }
+    }
+
+    /// A target proved unreachable: a placeholder counts as explored (leading nowhere) and a
+    /// place is left out of later plans.
+    pub fn mark_unreachable(
+        &mut self,
+        target: Target,
+        pos: Option<[f64; 2]>,
+        room: Option<RoomId>,
+    ) {
+        match target {
+            Target::Placeholder(id) => self.set_explored(id, pos, room.map_or(0, |r| r.0), None),
+            Target::Place(n) => {
+                self.blocked.insert(n);
+            }
+        }
+    }
+
+    /// The place an explored placeholder led to, if it was explored and led somewhere.
+    pub fn explored_led(&self, id: usize) -> Option<NodeIndex> {
+        self.registry
+            .iter()
+            .find(|e| e.id == id)
+            .and_then(|e| e.explored)
+            .and_then(|(_, led)| led)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_sighting_is_ignored_only_where_verification_failed_twice() {
+        let mut rejected = vec![("cerealbox".to_string(), [1.0, 1.0])];
+        // One failed verification: a real object fails one in ten, so look again.
+        assert!(!is_look_alike(&rejected, "cerealbox", [1.1, 1.0], 0.6, 2));
+        rejected.push(("cerealbox".to_string(), [1.2, 1.1]));
+        assert!(is_look_alike(&rejected, "cerealbox", [1.1, 1.0], 0.6, 2));
+        // Other classes and other places are not affected.
+        assert!(!is_look_alike(&rejected, "mug", [1.1, 1.0], 0.6, 2));
+        assert!(!is_look_alike(&rejected, "cerealbox", [2.0, 1.0], 0.6, 2));
+    }
+}

@@ -1,0 +1,98 @@
+//! [`Run`]: what belongs to one search and not to the agent's memory — the trace as it is
+//! written, the figures, and what the coverage has looked at.
+
+use crate::reason::GiveUpReason;
+use crate::report::{FoundObject, Metrics};
+use crate::trace::{Event, TraceSink};
+use std::collections::BTreeSet;
+
+/// The key of a point in the set of covered points: the point on a grid of `res` metres.
+pub(crate) type PointKey = (i64, i64, i64);
+
+/// One search in progress.
+pub(crate) struct Run<'s> {
+    pub events: Vec<Event>,
+    sink: &'s mut dyn TraceSink,
+    pub metrics: Metrics,
+    /// The goal class's room points inside processed views during this search (keys of
+    /// [`Run::key`]): what the coverage phase need not look at again.
+    pub covered: BTreeSet<PointKey>,
+    /// Where the coverage went to visit known free space outside every room.
+    pub visited: Vec<[f64; 2]>,
+    /// The resolution of [`Run::key`], metres.
+    key_res: f64,
+}
+
+impl<'s> Run<'s> {
+    /// A search writing its events to `sink`, remembering covered points on a grid of
+    /// `key_res` metres.
+    pub fn new(sink: &'s mut dyn TraceSink, key_res: f64) -> Self {
+        Self {
+            events: Vec::new(),
+            sink,
+            metrics: Metrics::default(),
+            covered: BTreeSet::new(),
+            visited: Vec::new(),
+            key_res,
+        }
+    }
+
+    /// The key of a point in [`Run::covered`].
+    pub fn key(&self, p: [f64; 3]) -> PointKey {
+        let r = self.key_res;
+        (
+            (p[0] / r).round() as i64,
+            (p[1] / r).round() as i64,
+            (p[2] / r).round() as i64,
+        )
+    }
+
+    /// Mark `points` covered.
+    pub fn cover(&mut self, points: impl IntoIterator<Item = [f64; 3]>) {
+        for p in points {
+            let k = self.key(p);
+            self.covered.insert(k);
+        }
+    }
+
+    /// Record and hand on one trace event.
+    pub fn emit(&mut self, e: Event) {
+        tracing::debug!(event = %e.json_line(), "trace");
+        self.sink.event(&e);
+        self.events.push(e);
+    }
+
+    /// Emit an observation.
+    pub fn observe(&mut self, what: String) {
+        self.emit(Event::Observed { what });
+    }
+
+    /// Emit the goal-reached event for `f`; returns the search's ending reason.
+    pub fn goal_reached(&mut self, f: &FoundObject) -> String {
+        self.emit(Event::GoalReached {
+            object: f.name.clone(),
+            pose: [f.pose.x, f.pose.y, f.pose.z],
+        });
+        format!(
+            "found {} {} at ({:.2}, {:.2}, {:.2})",
+            f.class, f.name, f.pose.x, f.pose.y, f.pose.z
+        )
+    }
+
+    /// Emit the give-up event.
+    pub fn give_up(&mut self, reason: &GiveUpReason) {
+        self.emit(Event::GaveUp {
+            reason: reason.to_string(),
+        });
+    }
+}
+
+/// How a plan step ended.
+pub(crate) enum StepEnd {
+    /// Go on with the plan (after monitoring).
+    Continue,
+    /// Make a new plan, for this reason.
+    Replan(crate::reason::ReplanReason),
+    /// The goal's object was found (and verified).
+    Found(FoundObject),
+}

@@ -1,0 +1,123 @@
+//! ENTER (and EXPLORE) a placeholder: drive to it, go on into the space beyond it, turn
+//! around, and visit the new room's nearby placeholders (the assumption gives a new room no
+//! open placeholders); the placeholder then leads to the room the robot stands in if that is
+//! another room than the one it came from, else nowhere new.
+
+use super::Ctx;
+use crate::binding::PlaceArg;
+use crate::body::Body;
+use crate::memory::{Memory, Target};
+use crate::run::Run;
+use crate::AgentError;
+use avs_concepts::RoomId;
+use avs_map::places::dist;
+use avs_robot::Robot;
+
+/// Enter the placeholder `ph` (the robot stands at it), coming from room `from_room`.
+pub(crate) fn enter<R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+    ph: &PlaceArg,
+    from_room: Option<RoomId>,
+) -> Result<(), AgentError> {
+    let t = cx.tuning();
+    let id = match ph.target {
+        Target::Placeholder(id) => Some(id),
+        Target::Place(_) => None,
+    };
+    let explored_led = id.and_then(|id| mem.explored_led(id));
+    let beyond = match explored_led {
+        Some(n) => mem.wm.places.graph.node_weight(n).map(|p| p.pos),
+        None => {
+            let Some(pos) = ph.pos else {
+                return Ok(());
+            };
+            let from = ph.attach.unwrap_or(pos);
+            let here = body.pose();
+            let (dx, dy) = (pos[0] - from[0], pos[1] - from[1]);
+            let (dx, dy) = if dx.hypot(dy) > 0.2 {
+                (dx, dy)
+            } else {
+                (here.yaw.cos(), here.yaw.sin())
+            };
+            let n = dx.hypot(dy).max(1e-9);
+            let (ux, uy) = (dx / n, dy / n);
+            // Into the space beyond: of the points `enter_depth` away with a short known
+            // path, the one that reveals most (exploration utility's new area, Masuzawa &
+            // Miura eq. 6) and lies farthest from where the placeholder hangs off.
+            let grid = mem.grid.clone();
+            (0..12)
+                .map(|k| {
+                    let a = std::f64::consts::TAU * k as f64 / 12.0;
+                    let (c, s) = (a.cos(), a.sin());
+                    let (vx, vy) = (c * ux - s * uy, s * ux + c * uy);
+                    [here.x + t.enter_depth * vx, here.y + t.enter_depth * vy]
+                })
+                .filter(|b| {
+                    mem.path_len_within([here.x, here.y], *b, false, 1.5 * t.enter_depth)
+                        .is_some()
+                })
+                .map(|b| {
+                    let score =
+                        avs_map::explore::new_area(&grid, b, t.enter_depth * 2.0) + dist(b, from);
+                    (b, score)
+                })
+                .fold(None, |best: Option<([f64; 2], f64)>, (b, sc)| match best {
+                    Some((_, bs)) if bs >= sc - 1e-9 => best,
+                    _ => Some((b, sc)),
+                })
+                .map(|(b, _)| b)
+        }
+    };
+    if let Some(b) = beyond {
+        if let Err(e) = body.go_to(mem, b)? {
+            run.observe(format!("could not go beyond {}: {e}", ph.name));
+        }
+    }
+    body.turn_around(mem)?;
+    // Explore what is left of the room just entered (the assumption gives a new room no
+    // open placeholders): visit the nearest placeholder of this room, a few times.
+    for _ in 0..t.room_explore_steps {
+        let Some(room) = mem.current_room() else {
+            break;
+        };
+        if from_room == Some(room) {
+            break;
+        }
+        let here = body.pose();
+        let next = mem
+            .phs
+            .iter()
+            .filter(|(k, c)| {
+                mem.registry[*k].explored.is_none() && mem.room_for(c.attach) == Some(room)
+            })
+            .map(|(k, c)| (*k, c.pos))
+            .filter(|(_, p)| {
+                mem.path_len_within([here.x, here.y], *p, false, t.room_explore_radius)
+                    .is_some()
+            })
+            .min_by(|a, b| dist(a.1, [here.x, here.y]).total_cmp(&dist(b.1, [here.x, here.y])));
+        let Some((k, pos)) = next else { break };
+        let next_id = mem.registry[k].id;
+        let r = body.go_to(mem, pos)?;
+        if let Some(e) = mem.registry.iter_mut().find(|e| e.id == next_id) {
+            e.explored = Some((room.0, None));
+        }
+        match r {
+            Ok(()) => body.turn_around(mem)?,
+            Err(e) => run.observe(format!("exploring room{} from {}: {e}", room.0, ph.name)),
+        }
+    }
+    let now = mem.current_room();
+    let led = match (now, from_room) {
+        (Some(n), Some(f)) if n != f => mem.current_place(),
+        (Some(_), None) => mem.current_place(),
+        _ => None,
+    };
+    if let Some(id) = id {
+        mem.set_explored(id, ph.pos, from_room.map_or(0, |r| r.0), led);
+    }
+    mem.sync()
+}

@@ -1,0 +1,236 @@
+//! Looking around on entering a room: a pan over the full circle at two tilts for the landmark
+//! classes; landmarks seen twice (or seen again through a view centred on them) in the same
+//! room become in/on locations, and their counts are object-count evidence on the room's
+//! category (Aydemir et al. 2011, `002` §III-A, eq. 1, thinned by the look's coverage).
+
+use super::Ctx;
+use crate::body::Body;
+use crate::memory::{Known, Memory};
+use crate::run::Run;
+use crate::AgentError;
+use avs_robot::{Detection, Robot, ViewCone};
+use std::collections::BTreeMap;
+
+/// Look around from where the robot stands for landmark classes: found landmarks become
+/// locations, and their counts are evidence on the room's category (§III-A, eq. 1).
+pub(crate) fn look_around<R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+) -> Result<(), AgentError> {
+    let (Some(place), Some(room)) = (mem.current_place(), mem.current_room()) else {
+        return Ok(());
+    };
+    let t = cx.tuning();
+    let confirm = cx.config.confirm_min_confidence;
+    let classes: Vec<String> = cx
+        .knowledge
+        .object_classes
+        .iter()
+        .filter(|c| c.landmark)
+        .map(|c| c.name.clone())
+        .collect();
+    let cam = body.camera();
+    let tilts: Vec<f64> = t.look_tilts.iter().map(|&x| cam.clamp_tilt(x)).collect();
+    let pose = body.pose();
+    let mut dets: Vec<Detection> = Vec::new();
+    // Pans half a field of view apart: every direction is in two views, so that a real
+    // landmark can collect the sightings that a false alarm rarely does.
+    let n_views = (std::f64::consts::TAU / (0.5 * cam.hfov).max(0.05)).ceil() as usize;
+    let mut failed = 0;
+    for k in 0..n_views {
+        let pan = cam
+            .clamp_pan(-std::f64::consts::PI + std::f64::consts::TAU * k as f64 / n_views as f64);
+        for &tilt in &tilts {
+            match body.look(&ViewCone::new(pose, pan, tilt, 1.0), &classes) {
+                Ok(r) => dets.extend(r.detections.into_iter().filter(|d| d.confidence >= confirm)),
+                Err(_) => failed += 1,
+            }
+        }
+    }
+    // One sighting per object: merge detections of a class within the cluster radius.
+    let mut clusters: Vec<(Detection, usize)> = Vec::new();
+    for d in dets {
+        match clusters.iter_mut().find(|(c, _)| {
+            c.class == d.class && c.pose.planar_distance(d.pose.x, d.pose.y) < t.look_cluster
+        }) {
+            Some((c, n)) => {
+                *n += 1;
+                if c.confidence < d.confidence {
+                    *c = d;
+                }
+            }
+            None => clusters.push((d, 1)),
+        }
+    }
+    // The views overlap: a real landmark is seen more than once, a false alarm rarely. A
+    // sighting seen once is looked at again through a view centred on it (where the
+    // detector is at its best): a real landmark shows again with probability 1 − FN, a
+    // false alarm within the cluster radius of the first only by chance.
+    let mut confirmed = Vec::new();
+    for (d, mut n) in clusters {
+        if n < t.look_min_sightings {
+            let (dx, dy) = (d.pose.x - pose.x, d.pose.y - pose.y);
+            let pan = (dy.atan2(dx) - pose.yaw + std::f64::consts::PI)
+                .rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI;
+            let tilt = cam.clamp_tilt((d.pose.z - cam.height).atan2(dx.hypot(dy)));
+            let pan = cam.clamp_pan(pan);
+            let again = body
+                .look(
+                    &ViewCone::new(pose, pan, tilt, 1.0),
+                    std::slice::from_ref(&d.class),
+                )
+                .map(|r| {
+                    r.detections.iter().any(|e| {
+                        e.class == d.class
+                            && e.confidence >= confirm
+                            && e.pose.planar_distance(d.pose.x, d.pose.y) < t.look_cluster
+                    })
+                })
+                .unwrap_or(false);
+            if again {
+                n += 1;
+            }
+        }
+        if n >= t.look_min_sightings {
+            confirmed.push(d);
+        }
+    }
+    let mut counts: BTreeMap<String, u32> = classes.iter().map(|c| (c.clone(), 0)).collect();
+    for d in confirmed {
+        let slack = mem.footprint_slack(cx.knowledge, &d.class);
+        if !mem.same_room([pose.x, pose.y], [d.pose.x, d.pose.y], slack) {
+            tracing::debug!(class = %d.class, x = d.pose.x, y = d.pose.y, "landmark in another room");
+            continue; // seen through a door: another room
+        }
+        let near = mem.object_place([d.pose.x, d.pose.y]).unwrap_or(place);
+        let known = mem
+            .objects
+            .iter()
+            .any(|o| o.class == d.class && o.pos.planar_distance(d.pose.x, d.pose.y) < 1.0);
+        if known {
+            continue;
+        }
+        *counts.entry(d.class.clone()).or_default() += 1;
+        let lm = mem.wm.found_landmark(near, &d.class)?;
+        mem.objects.push(Known {
+            class: d.class.clone(),
+            pos: d.pose,
+            place: near,
+            landmark: Some(lm),
+            on: None,
+        });
+    }
+    for (c, n) in &counts {
+        mem.wm.saw_objects(place, c, *n, t.look_coverage)?;
+    }
+    mem.looked.insert(room.0);
+    let seen: Vec<String> = counts
+        .iter()
+        .filter(|(_, n)| **n > 0)
+        .map(|(c, n)| format!("{c} x{n}"))
+        .collect();
+    let dist_txt: Vec<String> = cx
+        .knowledge
+        .room_categories
+        .iter()
+        .filter_map(|c| {
+            let p = mem.wm.concepts.p_category(room, c).ok()?;
+            Some(format!("P({c}) = {p:.3}"))
+        })
+        .collect();
+    run.observe(format!(
+        "looked around in room{}: {}{}; {}",
+        room.0,
+        if seen.is_empty() {
+            "no landmarks".to_string()
+        } else {
+            seen.join(", ")
+        },
+        if failed > 0 {
+            format!(" ({failed} views failed)")
+        } else {
+            String::new()
+        },
+        dist_txt.join(", ")
+    ));
+    Ok(())
+}
+
+/// Look around in the room the robot is in unless that was done before; a failure is noted
+/// in the trace, not an error.
+pub(crate) fn look_around_if_new<R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+) {
+    if matches!(mem.current_room(), Some(r) if !mem.looked.contains(&r.0)) {
+        if let Err(e) = look_around(cx, mem, body, run) {
+            run.observe(format!("looking around failed: {e}"));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::skills::testing::{self, object};
+    use crate::AgentConfig;
+
+    #[test]
+    fn a_table_seen_in_overlapping_views_becomes_a_landmark_of_the_room() {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        let mut robot = testing::robot(testing::room(5.0, 4.0), [1.5, 2.0]);
+        robot.place(object("table", 3.5, 2.0, 0.75));
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let mut sink = testing::sink();
+        let mut run = testing::run(&mut sink);
+        let cx = Ctx {
+            knowledge: &k,
+            config: &config,
+        };
+        look_around(cx, &mut mem, &mut Body::new(&mut robot), &mut run).unwrap();
+        let room = mem.current_room().expect("the robot stands in a room");
+        assert!(mem.looked.contains(&room.0));
+        assert_eq!(mem.objects.len(), 1, "{:?}", mem.objects);
+        assert_eq!(mem.objects[0].class, "table");
+        assert!(mem.objects[0].landmark.is_some());
+        assert!(
+            testing::text(&run).contains("table x1"),
+            "{}",
+            testing::text(&run)
+        );
+        // Every view of the pan asked for the landmark classes only, at the look's tilts.
+        let views = robot.views();
+        assert!(views.len() >= 2 * 8, "{} views", views.len());
+        assert!(views
+            .iter()
+            .all(|v| config.tuning.look_tilts.contains(&v.tilt)));
+    }
+
+    #[test]
+    fn a_sighting_seen_once_and_not_again_up_close_is_no_landmark() {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        let mut robot = testing::robot(testing::room(5.0, 4.0), [1.5, 2.0]);
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        // The first view of the pan reports a desk; no other view (nor the centred second
+        // look) sees it again: a false alarm.
+        robot.script_view(Ok(vec![object("desk", 3.0, 3.0, 0.75)]));
+        let mut sink = testing::sink();
+        let mut run = testing::run(&mut sink);
+        let cx = Ctx {
+            knowledge: &k,
+            config: &config,
+        };
+        look_around(cx, &mut mem, &mut Body::new(&mut robot), &mut run).unwrap();
+        assert!(mem.objects.is_empty(), "{:?}", mem.objects);
+        assert!(testing::text(&run).contains("no landmarks"));
+        // The second look was centred on the sighting.
+        let last = *robot.views().last().unwrap();
+        let bearing = (3.0f64 - 2.0).atan2(3.0 - 1.5);
+        assert!((last.camera_yaw() - bearing).abs() < 1e-9, "{last:?}");
+    }
+}

@@ -1,0 +1,449 @@
+//! SEARCHFOROBJECT: a closed-loop view-cone POMDP session over the location's cones (`002`
+//! §II-A.2). The prior P(ObjectAt L) of the conceptual map is spread over the points the
+//! cones cover; the session looks, observes, and declares found or absent; a declared
+//! sighting is verified ([`super::verify`]); a search in vain thins the location's rate by
+//! what was looked at.
+
+use super::views::{create_cones, view_text};
+use super::{verify::verify, Ctx};
+use crate::binding::{names, ObjArg};
+use crate::body::Body;
+use crate::memory::{ConeLoc, Known, Memory};
+use crate::reason::ReplanReason;
+use crate::report::{FoundObject, Goal};
+use crate::run::{Run, StepEnd};
+use crate::trace::Event;
+use crate::AgentError;
+use avs_concepts::{Location, RoomId};
+use avs_format::knowledge::Relation;
+use avs_pomdp::{
+    cone_priors, euclidean_travel, SessionOptions, ViewConeAction, ViewConeProblem, ViewConeSession,
+};
+use avs_robot::{Detection, Pose2D, Robot, ViewCone};
+use std::collections::BTreeSet;
+use std::time::Instant;
+
+/// One SEARCHFOROBJECT step of a plan.
+pub(crate) struct Search<'a> {
+    /// The class looked for.
+    pub label: &'a str,
+    /// Where.
+    pub loc: ConeLoc,
+    /// The object of the plan it looks for.
+    pub obj: &'a ObjArg,
+    /// The step's listing line.
+    pub display: &'a str,
+    /// The listing line of the last assumption of the plan about `obj`, if any.
+    pub assumption: Option<String>,
+}
+
+/// Run the session of `search`.
+pub(crate) fn dt_search<R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+    search: &Search,
+    goal: &Goal,
+) -> Result<StepEnd, AgentError> {
+    let t = cx.tuning();
+    let Search {
+        label,
+        loc,
+        obj,
+        display,
+        ..
+    } = *search;
+    if !mem.cones.contains_key(&(label.to_string(), loc)) {
+        let cam = body.camera();
+        create_cones(cx, mem, &cam, run, label, loc);
+    }
+    let set = mem.cones[&(label.to_string(), loc)].clone();
+    let location = match loc {
+        ConeLoc::Room(r) => Location::Room(RoomId(r)),
+        ConeLoc::On(k) => match mem.objects[k].landmark {
+            Some(l) => Location::Landmark(l, Relation::On),
+            None => {
+                return Ok(StepEnd::Replan(ReplanReason::NotALandmark {
+                    object: names::object(k),
+                }))
+            }
+        },
+    };
+    let p_map = mem.wm.concepts.p_object_at(location, label)?;
+    // The plan runs this session because it assumes the object there: the session's prior
+    // is the map's P(ObjectAt L), floored so that an assumed object is looked for at all.
+    let p_loc = if obj.assumed {
+        p_map.max(t.assumed_prior)
+    } else {
+        p_map
+    };
+    run.metrics.dt_sessions += 1;
+    run.emit(Event::DtSessionStarted {
+        search: display.to_string(),
+        cones: set.views.len(),
+        p_location: p_loc,
+    });
+    let mut outcome: Option<Detection> = None;
+    let mut unconfirmed: Option<usize> = None;
+    let mut steps = 0;
+    let mut looked_share = 0.0;
+    if !set.views.is_empty() {
+        // The prior is spread over the points the cones cover: the plan assumes the object
+        // is in the location where a search finds it. Over all points, a room whose cones
+        // covered 40% put 60% of the object in places no look can reach, the session
+        // declared "absent" after one look, the rate was hardly thinned, and the planner
+        // sent the robot to the same session again until its plan budget ran out.
+        let mut weights = vec![0.0; set.n_points];
+        for &i in set.cells.iter().flatten() {
+            if let Some(w) = weights.get_mut(i) {
+                *w = 1.0;
+            }
+        }
+        let prior = cone_priors(&set.cells, &weights, p_loc.clamp(0.0, 1.0));
+        let positions: Vec<[f64; 2]> = set.views.iter().map(|v| [v.pose[0], v.pose[1]]).collect();
+        let (from_start, travel) =
+            euclidean_travel(body.at(), &positions, cx.config.travel_cost_per_m);
+        let sensor = &cx.knowledge.sensor;
+        let session = prior.and_then(|cone_prior| {
+            ViewConeSession::new(
+                &ViewConeProblem {
+                    cone_prior,
+                    travel_from_start: from_start,
+                    travel,
+                    process_cost: cx.config.process_cost,
+                    false_negative: sensor.false_negative,
+                    false_positive: sensor.false_positive,
+                    rewards: cx.config.session_rewards,
+                    discount: cx.config.session_discount,
+                },
+                SessionOptions {
+                    // One pass: at most as many looks as cones, plus a few second looks at
+                    // detections; then the session declares by the immediate rewards and the
+                    // planner decides whether the location deserves another pass.
+                    max_steps: cx
+                        .config
+                        .session
+                        .max_steps
+                        .min(set.views.len() + t.session_extra_looks),
+                    ..cx.config.session.clone()
+                },
+            )
+        });
+        let mut session = match session {
+            Ok(s) => s,
+            Err(e) => {
+                run.emit(Event::DtSessionEnded {
+                    outcome: format!("failed: {e}"),
+                    steps: 0,
+                });
+                return Ok(StepEnd::Replan(ReplanReason::SessionFailed(e.to_string())));
+            }
+        };
+        let mut best: Vec<Option<Detection>> = vec![None; set.views.len()];
+        let mut seen_points: BTreeSet<usize> = BTreeSet::new();
+        for _ in 0..t.max_dt_steps {
+            let t0 = Instant::now();
+            let a = session.next_action();
+            run.metrics.dt_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+            match a {
+                Ok(ViewConeAction::Process { cone }) => {
+                    let v = &set.views[cone];
+                    seen_points.extend(set.cells[cone].iter().copied());
+                    if matches!(loc, ConeLoc::Room(_)) && label == goal.class {
+                        run.cover(set.cells[cone].iter().map(|&k| set.points[k]));
+                    }
+                    if let Err(e) = body.go_to(mem, [v.pose[0], v.pose[1]])? {
+                        run.observe(format!("on the way to view cone {cone}: {e}"));
+                    }
+                    let vc = ViewCone::new(
+                        Pose2D::new(v.pose[0], v.pose[1], v.pose[2]),
+                        v.pan,
+                        v.tilt,
+                        v.zoom,
+                    );
+                    let mut rep = body.look(&vc, &[label.to_string()]);
+                    if rep.is_err() {
+                        rep = body.look(&vc, &[label.to_string()]);
+                    }
+                    body.refresh_map(mem);
+                    let det = match rep {
+                        Ok(r) => r
+                            .detections
+                            .into_iter()
+                            .filter(|d| {
+                                d.class == label && d.confidence >= cx.config.min_confidence
+                            })
+                            .filter(|d| detection_in(cx, mem, d, loc, r.pose))
+                            .max_by(|a, b| a.confidence.total_cmp(&b.confidence)),
+                        Err(_) => None,
+                    };
+                    let detected = det.is_some();
+                    if let Some(d) = det {
+                        if best[cone]
+                            .as_ref()
+                            .is_none_or(|b| b.confidence < d.confidence)
+                        {
+                            best[cone] = Some(d);
+                        }
+                    }
+                    run.emit(Event::DtAction {
+                        action: format!("PROCESSVIEWCONE {cone} {}", view_text(v)),
+                        detected: Some(detected),
+                    });
+                    steps += 1;
+                    if session.observe(detected).is_err() {
+                        break;
+                    }
+                }
+                Ok(ViewConeAction::DeclareFound { cone }) => {
+                    run.emit(Event::DtAction {
+                        action: format!("DECLARE-FOUND cone {cone}"),
+                        detected: None,
+                    });
+                    if let Some(d) = best[cone].clone() {
+                        match verify(cx, mem, body, run, label, &d)? {
+                            Some(v) => outcome = Some(v),
+                            None => unconfirmed = Some(cone),
+                        }
+                    }
+                    break;
+                }
+                Ok(ViewConeAction::DeclareAbsent) => {
+                    run.emit(Event::DtAction {
+                        action: "DECLARE-ABSENT".into(),
+                        detected: None,
+                    });
+                    break;
+                }
+                Err(e) => {
+                    // The session cannot decide (a solver error): treated as "absent",
+                    // and the trace says why.
+                    run.observe(format!("the view-cone POMDP failed: {e}"));
+                    break;
+                }
+            }
+        }
+        mem.sync()?;
+        looked_share = if steps == 0 {
+            // Declared absent without looking: the DT planner's judgement covers the
+            // whole location its cones cover.
+            set.covered_share
+        } else {
+            seen_points.len() as f64 / set.n_points.max(1) as f64
+        };
+    }
+    run.emit(Event::DtSessionEnded {
+        outcome: match (&outcome, unconfirmed) {
+            (Some(_), _) => "found".into(),
+            (None, Some(_)) => "false alarm".into(),
+            (None, None) => "absent".into(),
+        },
+        steps,
+    });
+    if let (None, Some(cone)) = (&outcome, unconfirmed) {
+        // A sighting a closer look did not confirm says nothing either way about the rest
+        // of the location: replan without thinning its probability.
+        return Ok(StepEnd::Replan(ReplanReason::NotConfirmed {
+            class: label.to_string(),
+            cone,
+        }));
+    }
+    match outcome {
+        Some(d) => {
+            let place = mem
+                .object_place([d.pose.x, d.pose.y])
+                .or_else(|| mem.current_place());
+            let Some(place) = place else {
+                return Ok(StepEnd::Replan(ReplanReason::OnNoPlace));
+            };
+            let k = mem.objects.len();
+            let landmark = if cx.knowledge.class(label).is_some_and(|c| c.landmark) {
+                Some(mem.wm.found_landmark(place, label)?)
+            } else {
+                None
+            };
+            let on = match loc {
+                ConeLoc::On(j) => Some(j),
+                ConeLoc::Room(_) => None,
+            };
+            mem.objects.push(Known {
+                class: label.to_string(),
+                pos: d.pose,
+                place,
+                landmark,
+                on,
+            });
+            let name = names::object(k);
+            if let Some(a) = &search.assumption {
+                run.emit(Event::AssumptionConfirmed {
+                    assumption: a.clone(),
+                    evidence: format!(
+                        "{} is {name}, a {label} seen with confidence {:.2}",
+                        obj.name, d.confidence
+                    ),
+                });
+            }
+            if label == goal.class {
+                return Ok(StepEnd::Found(FoundObject {
+                    name,
+                    class: label.into(),
+                    pose: d.pose,
+                    confidence: d.confidence,
+                }));
+            }
+            Ok(StepEnd::Replan(if obj.assumed {
+                ReplanReason::Matched {
+                    virtual_object: obj.name.clone(),
+                    class: label.to_string(),
+                    object: name,
+                }
+            } else {
+                ReplanReason::FoundObject {
+                    class: label.to_string(),
+                    object: name,
+                }
+            }))
+        }
+        None => {
+            // Thinning by what was looked at: the processed cones' share of the location.
+            let q = ((1.0 - cx.knowledge.sensor.false_negative) * looked_share).clamp(0.0, 0.99);
+            // The place map may have re-drawn the rooms while the robot moved between the
+            // cones (a door found or lost): the searched room is then the room that holds
+            // most of the searched points now.
+            let location = match location {
+                Location::Room(r) if !mem.wm.rooms().any(|(id, _)| id == r) => {
+                    match mem.majority_room(&set.points) {
+                        Some(now) => Location::Room(now),
+                        None => location,
+                    }
+                }
+                l => l,
+            };
+            if q > 0.0 {
+                mem.wm.concepts.mark_searched(location, label, q)?;
+            }
+            if let ConeLoc::On(k) = loc {
+                mem.exhausted.insert((k, label.to_string()));
+            }
+            let p_now = mem.wm.concepts.p_object_at(location, label).unwrap_or(0.0);
+            let why = ReplanReason::SearchedInVain {
+                class: label.to_string(),
+                search: display.to_string(),
+                before: p_map,
+                after: p_now,
+            };
+            if let Some(a) = &search.assumption {
+                run.emit(Event::AssumptionViolated {
+                    assumption: a.clone(),
+                    reason: why.to_string(),
+                });
+            }
+            Ok(StepEnd::Replan(why))
+        }
+    }
+}
+
+/// Whether a detection lies in the searched location (and is not of an object the agent
+/// already knows).
+fn detection_in(cx: Ctx, mem: &Memory, d: &Detection, loc: ConeLoc, from: Pose2D) -> bool {
+    let known = !mem.is_new_sighting(d);
+    match loc {
+        ConeLoc::On(k) => {
+            let o = &mem.objects[k];
+            let half = cx
+                .knowledge
+                .class(&o.class)
+                .map_or(0.6, |c| 0.5 * c.size[0].max(c.size[1]));
+            !known && o.pos.planar_distance(d.pose.x, d.pose.y) <= half + cx.tuning().on_slack
+        }
+        ConeLoc::Room(r) => {
+            let here = [from.x, from.y];
+            // A small object may stand anywhere on a piece of furniture, whose footprint
+            // is an obstacle of the known map: the sight line may stop short by the largest
+            // landmark's half diagonal.
+            let slack = cx
+                .knowledge
+                .object_classes
+                .iter()
+                .filter(|c| c.landmark)
+                .map(|c| mem.footprint_slack(cx.knowledge, &c.name))
+                .fold(mem.footprint_slack(cx.knowledge, &d.class), f64::max);
+            !known
+                && mem.same_room(here, [d.pose.x, d.pose.y], slack)
+                && mem.room_at(here) == Some(RoomId(r))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::skills::testing::{self, object};
+    use crate::AgentConfig;
+
+    fn search_room(placed: bool) -> (StepEnd, Memory, String) {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
+        if placed {
+            // On a table's top (the search height of a cereal box), in the far half.
+            robot.place(object("cerealbox", 3.6, 2.8, 0.965));
+        }
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let room = mem.current_room().expect("a room");
+        let mut sink = testing::sink();
+        let mut run = testing::run(&mut sink);
+        let cx = Ctx {
+            knowledge: &k,
+            config: &config,
+        };
+        let obj = ObjArg {
+            name: "new-object1".into(),
+            assumed: true,
+        };
+        let display = format!("SEARCHFOROBJECT cerealbox IN room{} new-object1", room.0);
+        let search = Search {
+            label: "cerealbox",
+            loc: ConeLoc::Room(room.0),
+            obj: &obj,
+            display: &display,
+            assumption: Some("ASSUME-OBJECT-EXISTS cerealbox IN room0 kitchen".into()),
+        };
+        let end = dt_search(
+            cx,
+            &mut mem,
+            &mut Body::new(&mut robot),
+            &mut run,
+            &search,
+            &Goal::find("cerealbox"),
+        )
+        .unwrap();
+        let text = testing::text(&run);
+        (end, mem, text)
+    }
+
+    #[test]
+    fn a_session_over_a_room_with_the_object_finds_and_verifies_it() {
+        let (end, mem, text) = search_room(true);
+        let StepEnd::Found(f) = end else {
+            panic!("not found:\n{text}");
+        };
+        assert!(f.pose.planar_distance(3.6, 2.8) < 1e-9);
+        assert_eq!(f.name, "object0");
+        assert_eq!(mem.objects.len(), 1);
+        assert!(text.contains("DT session ended: found"), "{text}");
+        assert!(text.contains("+ assumption confirmed"), "{text}");
+        assert!(text.contains("VERIFY cerealbox"), "{text}");
+    }
+
+    #[test]
+    fn a_session_in_vain_thins_the_rooms_probability_and_says_by_how_much() {
+        let (end, _, text) = search_room(false);
+        let StepEnd::Replan(ReplanReason::SearchedInVain { before, after, .. }) = end else {
+            panic!("not searched in vain:\n{text}");
+        };
+        assert!(after < before, "{before} -> {after}");
+        assert!(text.contains("DT session ended: absent"), "{text}");
+        assert!(text.contains("! assumption violated"), "{text}");
+    }
+}

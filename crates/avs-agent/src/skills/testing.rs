@@ -1,0 +1,72 @@
+//! Helpers for the skills' unit tests: the shipped knowledge, a walled room the scripted
+//! robot knows whole, and the memory, body and run of a search over it.
+
+use crate::body::Body;
+use crate::config::AgentConfig;
+use crate::memory::Memory;
+use crate::run::Run;
+use crate::trace::Event;
+use crate::world_model::WorldModel;
+use avs_format::knowledge::Knowledge;
+use avs_map::grid::{Cell, OccupancyGrid};
+use avs_robot::{Camera, Detection, Point3, Pose2D, ScriptedRobot};
+
+/// The shipped office knowledge.
+pub fn knowledge() -> Knowledge {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../knowledge/office.yaml");
+    avs_format::load_yaml(std::path::Path::new(path)).expect("the shipped knowledge loads")
+}
+
+/// A walled room of `w` × `h` metres (0.1 m cells, origin at the outer corner), all known.
+pub fn room(w: f64, h: f64) -> OccupancyGrid {
+    let (cols, rows) = ((w / 0.1).round() as usize, (h / 0.1).round() as usize);
+    let mut g = OccupancyGrid::new(cols, rows, 0.1, [0.0, 0.0], Cell::Free).expect("valid size");
+    for c in 0..cols {
+        g.set(c, 0, Cell::Occupied);
+        g.set(c, rows - 1, Cell::Occupied);
+    }
+    for r in 0..rows {
+        g.set(0, r, Cell::Occupied);
+        g.set(cols - 1, r, Cell::Occupied);
+    }
+    g
+}
+
+/// A sighting of `class` at `(x, y, z)` with confidence 0.8.
+pub fn object(class: &str, x: f64, y: f64, z: f64) -> Detection {
+    Detection {
+        class: class.into(),
+        pose: Point3 { x, y, z },
+        confidence: 0.8,
+    }
+}
+
+/// A scripted robot at `at` (facing +x) in `grid`, with the default camera.
+pub fn robot(grid: OccupancyGrid, at: [f64; 2]) -> ScriptedRobot {
+    ScriptedRobot::new(grid, Pose2D::new(at[0], at[1], 0.0), Camera::default())
+}
+
+/// A memory made as a search makes it: the robot's first laser map, then the survey.
+pub fn memory(config: &AgentConfig, k: &Knowledge, robot: &mut ScriptedRobot) -> Memory {
+    let wm = WorldModel::new("knowledge", k, config.places.clone()).expect("knowledge is usable");
+    let mut body = Body::new(robot);
+    let grid = body.laser_map();
+    let mut mem = Memory::new(wm, grid, config.robot_radius, config.tuning.clone());
+    body.survey(&mut mem).expect("the survey syncs");
+    mem
+}
+
+/// A sink that keeps nothing (the run keeps its own events).
+pub fn sink() -> impl FnMut(&Event) {
+    |_: &Event| {}
+}
+
+/// A run writing to `sink`.
+pub fn run(sink: &mut dyn crate::trace::TraceSink) -> Run<'_> {
+    Run::new(sink, 0.1)
+}
+
+/// The text of the run's trace.
+pub fn text(run: &Run) -> String {
+    crate::trace::render_text(&run.events)
+}

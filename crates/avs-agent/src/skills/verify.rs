@@ -1,0 +1,217 @@
+//! A closer look at a sighting before it is reported (the verification step of Masuzawa &
+//! Miura, `001` §4, reduced to one viewpoint).
+
+use super::Ctx;
+use crate::body::Body;
+use crate::geometry::{sight_clear, SightLine};
+use crate::memory::{path_len_on, Memory};
+use crate::run::Run;
+use crate::trace::Event;
+use crate::AgentError;
+use avs_map::grid::Cell;
+use avs_robot::{Detection, Robot, ViewCone};
+
+/// Verify a sighting before reporting it: from the reachable point nearest the robot at the
+/// middle of the class's recognition range, with a clear line of sight, look through views
+/// centred on the sighting, zoomed so that it lies in the middle of the (zoom-scaled)
+/// recognition range when no nearer viewpoint could be reached. `verify_hits` detections of
+/// the class within `confirm_radius` of the sighting in at most `verify_looks` looks confirm
+/// it (the best of them, measured closer, is the pose reported). With the knowledge's miss
+/// rate 0.2 a real object passes with 0.90; a look-alike that fires one look in four with
+/// 0.16. A sighting not confirmed is remembered as rejected.
+pub(crate) fn verify<R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+    label: &str,
+    d: &Detection,
+) -> Result<Option<Detection>, AgentError> {
+    let t = cx.tuning();
+    let Some(class) = cx.knowledge.class(label).cloned() else {
+        return Ok(None);
+    };
+    let target = [d.pose.x, d.pose.y];
+    let here = body.pose();
+    let cam = body.camera();
+    // Far enough that the camera can tilt onto the sighting: a small object on the floor,
+    // 1.2 m below the camera, is out of view from closer than 1.2 m with a 45° tilt limit.
+    let dz = d.pose.z - cam.height;
+    let tilt_limit = if dz < 0.0 {
+        -cam.tilt_limits[0]
+    } else {
+        cam.tilt_limits[1]
+    }
+    .min(t.verify_max_tilt);
+    let min_reach = if tilt_limit > 0.0 {
+        dz.abs() / tilt_limit.tan()
+    } else {
+        f64::INFINITY
+    };
+    let surfaces = mem.surfaces(cx.knowledge);
+    let slack = mem.footprint_slack(cx.knowledge, label).min(t.los_slack);
+    let to = [target[0], target[1], d.pose.z];
+    let stand = mem.with_trav(false, |trav| {
+        let grid = &mem.grid;
+        let line = SightLine {
+            grid,
+            surfaces: &surfaces,
+            slack,
+            z_tolerance: t.surface_z_tolerance,
+            unknown_blocks: false,
+        };
+        let [lo, hi] = class.recognition_range;
+        let mut best: Option<([f64; 2], f64)> = None;
+        for r in [0.5 * (lo + hi), hi, 0.5 * (hi + class.detection_range[1])] {
+            let r = r.max(min_reach);
+            for k in 0..t.verify_bearings {
+                let a = std::f64::consts::TAU * k as f64 / t.verify_bearings as f64;
+                let p = [target[0] + r * a.cos(), target[1] + r * a.sin()];
+                let (c, rw) = grid.world_to_cell(p[0], p[1]);
+                if grid.get_i(c, rw) != Cell::Free || !trav.ok(c, rw) {
+                    continue;
+                }
+                if !sight_clear(&line, p, to) {
+                    continue;
+                }
+                let Some(l) = path_len_on(trav, [here.x, here.y], p, f64::INFINITY) else {
+                    continue;
+                };
+                if best.is_none_or(|(_, b)| l < b) {
+                    best = Some((p, l));
+                }
+            }
+            if best.is_some() {
+                break;
+            }
+        }
+        best.map(|(p, _)| p)
+    });
+    if let Some(p) = stand {
+        if let Err(e) = body.go_to(mem, p)? {
+            run.observe(format!("on the way to verify the {label}: {e}"));
+        }
+    }
+    let mut confirmed: Option<Detection> = None;
+    let mut hits = 0;
+    for look in 0..t.verify_looks {
+        if hits + (t.verify_looks - look) < t.verify_hits {
+            break; // cannot reach the hits needed any more
+        }
+        let pose = body.pose();
+        let (dx, dy) = (target[0] - pose.x, target[1] - pose.y);
+        let pan = cam.clamp_pan(
+            (dy.atan2(dx) - pose.yaw + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI,
+        );
+        let tilt = cam.clamp_tilt((d.pose.z - cam.height).atan2(dx.hypot(dy)));
+        // Zoom in so that the sighting lies in the middle of the recognition range (Sjöö
+        // et al., §3.4: the distance interval scales with the zoom).
+        let mid = 0.5 * (class.recognition_range[0] + class.recognition_range[1]);
+        let zoom = (dx.hypot(dy).hypot(dz) / mid.max(1e-3)).clamp(1.0, cam.max_zoom.max(1.0));
+        let seen = body
+            .look(
+                &ViewCone::new(pose, pan, tilt, zoom),
+                std::slice::from_ref(&label.to_string()),
+            )
+            .ok()
+            .and_then(|r| {
+                r.detections
+                    .into_iter()
+                    .filter(|e| {
+                        e.class == label
+                            && e.confidence >= cx.config.confirm_min_confidence
+                            && e.pose.planar_distance(target[0], target[1]) <= t.confirm_radius
+                    })
+                    .max_by(|a, b| a.confidence.total_cmp(&b.confidence))
+            });
+        run.emit(Event::DtAction {
+            action: format!(
+                "VERIFY {label} at ({:.2}, {:.2}) from ({:.2}, {:.2})",
+                target[0], target[1], pose.x, pose.y
+            ),
+            detected: Some(seen.is_some()),
+        });
+        if let Some(e) = seen {
+            hits += 1;
+            if confirmed
+                .as_ref()
+                .is_none_or(|c| c.confidence < e.confidence)
+            {
+                confirmed = Some(e);
+            }
+            if hits >= t.verify_hits {
+                break;
+            }
+        }
+    }
+    body.refresh_map(mem);
+    let confirmed = confirmed.filter(|_| hits >= t.verify_hits);
+    if confirmed.is_none() {
+        mem.rejected.push((label.to_string(), target));
+    }
+    Ok(confirmed)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::skills::testing::{self, object};
+    use crate::AgentConfig;
+
+    fn verdict(placed: bool) -> (Option<Detection>, Memory, avs_robot::ScriptedRobot, usize) {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        let mut robot = testing::robot(testing::room(6.0, 4.0), [1.0, 2.0]);
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let box_at = object("cerealbox", 4.5, 2.0, 0.14);
+        if placed {
+            robot.place(box_at.clone());
+        }
+        let mut sink = testing::sink();
+        let mut run = testing::run(&mut sink);
+        let cx = Ctx {
+            knowledge: &k,
+            config: &config,
+        };
+        let v = verify(
+            cx,
+            &mut mem,
+            &mut Body::new(&mut robot),
+            &mut run,
+            "cerealbox",
+            &box_at,
+        )
+        .unwrap();
+        let looks = run
+            .events
+            .iter()
+            .filter(|e| matches!(e, Event::DtAction { action, .. } if action.starts_with("VERIFY")))
+            .count();
+        (v, mem, robot, looks)
+    }
+
+    #[test]
+    fn a_real_object_is_confirmed_by_two_closer_looks_from_inside_its_recognition_range() {
+        let (v, mem, robot, looks) = verdict(true);
+        let v = v.expect("a real object is confirmed");
+        assert!(v.pose.planar_distance(4.5, 2.0) < 1e-9);
+        assert_eq!(looks, 2);
+        assert!(mem.rejected.is_empty());
+        // The robot moved to a standpoint within the class's recognition range (or as near as
+        // the camera's tilt allows) and looked at the sighting.
+        let k = testing::knowledge();
+        let range = k.class("cerealbox").unwrap().detection_range[1];
+        let stand = robot.pose();
+        assert!(stand.distance(&avs_robot::Pose2D::new(1.0, 2.0, 0.0)) > 0.5);
+        assert!(((4.5 - stand.x).hypot(2.0 - stand.y)) <= range, "{stand:?}");
+    }
+
+    #[test]
+    fn a_sighting_no_closer_look_repeats_is_rejected_and_remembered() {
+        let (v, mem, _, looks) = verdict(false);
+        assert!(v.is_none());
+        // Two misses leave no way to the two hits needed: the third look is not taken.
+        assert_eq!(looks, 2);
+        assert_eq!(mem.rejected, vec![("cerealbox".to_string(), [4.5, 2.0])]);
+    }
+}

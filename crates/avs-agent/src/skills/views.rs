@@ -1,0 +1,269 @@
+//! CREATEVIEWCONES: view planning by coverage over a location's points (Sjöö et al., `004`
+//! §2.1) with line of sight on the known map — a room's known cells at the search heights, or
+//! the top of a known landmark.
+
+use super::Ctx;
+use crate::geometry::{lattice_step, search_heights, sight_clear, SightLine};
+use crate::memory::{standable, ConeLoc, ConeSet, Memory};
+use crate::run::Run;
+use avs_concepts::RoomId;
+use avs_format::knowledge::ObjectClass;
+use avs_map::grid::Cell;
+use avs_map::places::dist;
+use avs_pomdp::{create_view_cones_zoomed, CameraModel, DetectionRange, PlannedView};
+use avs_robot::Camera;
+use std::collections::BTreeSet;
+
+/// CREATEVIEWCONES for `label` at `loc` (unzoomed, as the paper plans them): the cones are
+/// kept in memory for the session that follows.
+pub(crate) fn create_cones(
+    cx: Ctx,
+    mem: &mut Memory,
+    cam: &Camera,
+    run: &mut Run,
+    label: &str,
+    loc: ConeLoc,
+) {
+    let Some(set) = plan_cones(cx, mem, cam, label, loc, None, &[1.0]) else {
+        return;
+    };
+    run.observe(format!(
+        "{} view cones for {label} cover {:.0}% of {} points",
+        set.views.len(),
+        100.0 * set.covered_share,
+        set.n_points
+    ));
+    mem.cones.insert((label.to_string(), loc), set);
+}
+
+/// View planning for `label` at `loc` (CREATEVIEWCONES, Sjöö et al. `004` §2.1): cones
+/// covering `points`, or the location's own points when `None`, with views at the zoom
+/// levels `zooms`; at most [`AgentConfig::max_cones`](crate::AgentConfig::max_cones) of them.
+/// `None` for an unknown class.
+///
+/// The plan's searches keep the paper's unzoomed views (`&[1.0]`): their points are the
+/// tops of the surfaces the knowledge names, within unzoomed range of some pose. The
+/// coverage before giving up also looks at the floor, where a small object is beyond its
+/// unzoomed range wherever the camera's tilt limit lets it look, and plans with
+/// [`view_zooms`](crate::geometry::view_zooms).
+pub(crate) fn plan_cones(
+    cx: Ctx,
+    mem: &Memory,
+    cam: &Camera,
+    label: &str,
+    loc: ConeLoc,
+    points: Option<Vec<[f64; 3]>>,
+    zooms: &[f64],
+) -> Option<ConeSet> {
+    let t = cx.tuning();
+    let class = cx.knowledge.class(label)?;
+    let grid = &mem.grid;
+    let in_room = |x: f64, y: f64, r: u64| mem.room_at([x, y]) == Some(RoomId(r));
+    let (points, center, reach): (Vec<[f64; 3]>, Option<[f64; 2]>, f64) = match loc {
+        ConeLoc::Room(r) => (
+            points.unwrap_or_else(|| room_points(cx, mem, r, class, false)),
+            None,
+            0.0,
+        ),
+        ConeLoc::On(k) => {
+            let o = &mem.objects[k];
+            let lm = cx.knowledge.class(&o.class);
+            let (w, h) = lm.map_or((1.0, 0.75), |c| (c.size[0].max(c.size[1]), c.size[2]));
+            let z = h + class.size[2] * 0.5;
+            let mut pts = Vec::new();
+            let n = ((w / 0.2).ceil() as i64).max(1);
+            for i in -n / 2..=n / 2 {
+                for j in -n / 2..=n / 2 {
+                    pts.push([o.pos.x + 0.2 * i as f64, o.pos.y + 0.2 * j as f64, z]);
+                }
+            }
+            (
+                points.unwrap_or(pts),
+                Some([o.pos.x, o.pos.y]),
+                class.detection_range[1] + 0.5,
+            )
+        }
+    };
+    // A landmark's top is small: poses on a finer grid, so that one lies near the middle of a
+    // small object's detection range wherever the furniture lets the robot stand.
+    let spacing = match loc {
+        ConeLoc::Room(_) => t.pose_spacing,
+        ConeLoc::On(_) => 0.5 * t.pose_spacing,
+    };
+    let poses: Vec<[f64; 3]> = mem
+        .with_trav(false, |tr| standable(grid, tr, spacing))
+        .into_iter()
+        .filter(|&[x, y]| match (loc, center) {
+            (ConeLoc::Room(r), _) => in_room(x, y, r),
+            (_, Some(c)) => dist([x, y], c) <= reach,
+            _ => false,
+        })
+        .map(|[x, y]| [x, y, 0.0])
+        .collect();
+    // A point counts as covered only in the central part of the image: towards the border
+    // the detector's confidence falls (partly cut-off objects) below `min_confidence`.
+    let camera = CameraModel {
+        hfov: t.cover_fov_share * cam.hfov,
+        vfov: t.cover_fov_share * cam.vfov,
+        pan_limits: cam.pan_limits,
+        tilt_limits: cam.tilt_limits,
+        height: cam.height,
+    };
+    // Likewise only the nearer part of the detection range: at its far end the detector
+    // misses most of the time.
+    let [near, far] = class.detection_range;
+    let range = DetectionRange {
+        min: near,
+        max: near + t.cover_range_share * (far - near),
+    };
+    // The grid holds furniture footprints: stop the sight line short of the target point,
+    // or where it reaches the top the point rests on.
+    let surfaces = mem.surfaces(cx.knowledge);
+    let line = SightLine {
+        grid,
+        surfaces: &surfaces,
+        slack: t.los_slack,
+        z_tolerance: t.surface_z_tolerance,
+        unknown_blocks: true,
+    };
+    let los = |a: [f64; 3], b: [f64; 3]| sight_clear(&line, [a[0], a[1]], b);
+    let planned = if points.is_empty() || poses.is_empty() {
+        None
+    } else {
+        create_view_cones_zoomed(&points, &poses, &camera, range, zooms, los).ok()
+    };
+    Some(match planned {
+        Some(mut p) => {
+            p.views.truncate(cx.config.max_cones);
+            let n_points = points.len();
+            let covered: BTreeSet<usize> = p
+                .views
+                .iter()
+                .flat_map(|v| v.covered.iter().copied())
+                .collect();
+            let share = covered.len() as f64 / n_points.max(1) as f64;
+            ConeSet {
+                cells: p.cone_cells(),
+                views: p.views,
+                points: points.clone(),
+                n_points,
+                covered_share: share,
+            }
+        }
+        None => ConeSet {
+            views: Vec::new(),
+            points: points.clone(),
+            cells: Vec::new(),
+            n_points: 0,
+            covered_share: 0.0,
+        },
+    })
+}
+
+/// The points of room `r` where an object of `class` may be: known cells every
+/// `point_spacing`, at each of the [`search_heights`] (those of the coverage when `cover`).
+pub(crate) fn room_points(
+    cx: Ctx,
+    mem: &Memory,
+    r: u64,
+    class: &ObjectClass,
+    cover: bool,
+) -> Vec<[f64; 3]> {
+    let t = cx.tuning();
+    let grid = &mem.grid;
+    let heights = search_heights(cx.knowledge, class, cover, t.height_step, t.small_object_z);
+    let step = lattice_step(grid, t.point_spacing);
+    let mut pts = Vec::new();
+    for row in (0..grid.height()).step_by(step) {
+        for col in (0..grid.width()).step_by(step) {
+            if grid.get(col, row) == Cell::Unknown {
+                continue;
+            }
+            let (x, y) = grid.cell_center(col as i64, row as i64);
+            if mem.room_at([x, y]) == Some(RoomId(r)) {
+                pts.extend(heights.iter().map(|&z| [x, y, z]));
+            }
+        }
+    }
+    pts
+}
+
+/// The zoom of a view as the trace shows it: nothing for none.
+pub(crate) fn zoom_text(zoom: f64) -> String {
+    if zoom > 1.0 {
+        format!(" zoom {zoom:.1}")
+    } else {
+        String::new()
+    }
+}
+
+/// A planned view as the trace shows it: "from (x, y) pan p tilt t[ zoom z]".
+pub(crate) fn view_text(v: &PlannedView) -> String {
+    format!(
+        "from ({:.2}, {:.2}) pan {:.2} tilt {:.2}{}",
+        v.pose[0],
+        v.pose[1],
+        v.pan,
+        v.tilt,
+        zoom_text(v.zoom)
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_view_reads_with_its_zoom_only_when_zoomed() {
+        assert_eq!(zoom_text(1.0), "");
+        assert_eq!(zoom_text(2.0), " zoom 2.0");
+    }
+}
+
+#[cfg(test)]
+mod planning_tests {
+    use super::*;
+    use crate::skills::testing;
+    use crate::trace::Event;
+    use crate::AgentConfig;
+
+    #[test]
+    fn cones_planned_for_a_room_stand_in_it_and_are_kept_for_the_session() {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 2.0]);
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let room = mem.current_room().expect("a room");
+        let mut sink = testing::sink();
+        let mut run = testing::run(&mut sink);
+        let cx = Ctx {
+            knowledge: &k,
+            config: &config,
+        };
+        let cam = avs_robot::Robot::camera(&robot);
+        create_cones(
+            cx,
+            &mut mem,
+            &cam,
+            &mut run,
+            "cerealbox",
+            ConeLoc::Room(room.0),
+        );
+        let set = &mem.cones[&("cerealbox".to_string(), ConeLoc::Room(room.0))];
+        assert!(!set.views.is_empty());
+        assert!(set.views.len() <= config.max_cones);
+        assert!(set.covered_share > 0.5, "{}", set.covered_share);
+        for v in &set.views {
+            assert_eq!(mem.room_at([v.pose[0], v.pose[1]]), Some(room));
+            assert_eq!(v.zoom, 1.0, "the plan's cones are unzoomed");
+        }
+        // The points are the room's cells at the cereal box's search height.
+        assert!(set
+            .points
+            .iter()
+            .all(|p| (p[2] - (0.825 + 0.14)).abs() < 1e-9));
+        let said = run.events.iter().any(|e| {
+            matches!(e, Event::Observed { what } if what.starts_with(&format!("{} view cones for cerealbox", set.views.len())))
+        });
+        assert!(said, "{:?}", run.events);
+    }
+}

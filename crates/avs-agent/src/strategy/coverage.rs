@@ -1,0 +1,448 @@
+//! The coverage loop shared by the baselines and the planner's last resort.
+
+use crate::binding::{names, Binding};
+use crate::body::Body;
+use crate::config::Strategy;
+use crate::geometry::{lattice_step, unseen_tops, view_zooms, Surface};
+use crate::memory::{standable, ConeLoc, ConeSet, Known, Memory, Target};
+use crate::reason::GiveUpReason;
+use crate::report::{FoundObject, Goal};
+use crate::run::Run;
+use crate::skills::look_around::look_around_if_new;
+use crate::skills::verify::verify;
+use crate::skills::views::{plan_cones, room_points, view_text};
+use crate::skills::Ctx;
+use crate::trace::Event;
+use crate::AgentError;
+use avs_concepts::RoomId;
+use avs_format::knowledge::ObjectClass;
+use avs_map::places::dist;
+use avs_robot::{Detection, Pose2D, Robot, ViewCone};
+
+/// What a coverage does next.
+enum Next {
+    Cover(RoomId),
+    /// Explore the placeholder with this stable id, at this position.
+    Explore(usize, [f64; 2]),
+    /// Go to known free space that no room holds (seen through a door that was never crossed,
+    /// with no placeholder left to lead there), so that the place map makes a room of it.
+    Visit([f64; 2]),
+}
+
+/// Cover rooms and explore placeholders by `strategy` until the goal's class is found
+/// (`Ok`) or nothing is left or the action budget is spent (`Err` with the reason). Points
+/// already in `run.covered` are not looked at again; after `passes` passes over everything
+/// the coverage gives up. With `look_around` (the planner's coverage; the baselines use no
+/// landmarks), each room entered for the first time is looked around, so that the furniture
+/// in it is known and its tops are looked on.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the four parts of a search (settings, memory, body, run) plus what to cover and how"
+)]
+pub(crate) fn cover_all<R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+    goal: &Goal,
+    strategy: Strategy,
+    passes: usize,
+    look_around: bool,
+) -> Result<Result<FoundObject, GiveUpReason>, AgentError> {
+    let Some(class) = cx.knowledge.class(&goal.class).cloned() else {
+        return Ok(Err(GiveUpReason::UnknownClass(goal.class.clone())));
+    };
+    let mut pass = 1;
+    loop {
+        if run.metrics.actions >= cx.config.max_cover_actions {
+            return Ok(Err(GiveUpReason::ActionBudget {
+                actions: run.metrics.actions,
+                class: goal.class.clone(),
+            }));
+        }
+        let next = next_step(cx, mem, body.at(), &class, strategy, run)
+            .or_else(|| outside_rooms(cx, mem, body.at(), &run.visited).map(Next::Visit));
+        let Some(next) = next else {
+            if pass < passes {
+                pass += 1;
+                run.covered.clear();
+                run.observe(format!(
+                    "every reachable room was covered: covering again (pass {pass} of {passes})"
+                ));
+                continue;
+            }
+            return Ok(Err(GiveUpReason::Covered {
+                passes,
+                class: goal.class.clone(),
+            }));
+        };
+        match next {
+            Next::Cover(room) => {
+                if let Some(f) = cover_room(cx, mem, body, run, goal, room)? {
+                    return Ok(Ok(f));
+                }
+            }
+            Next::Visit(pos) => {
+                let action = format!("VISIT ({:.2}, {:.2})", pos[0], pos[1]);
+                run.metrics.actions += 1;
+                run.visited.push(pos);
+                run.emit(Event::ActionStarted {
+                    action: action.clone(),
+                });
+                let outcome = match body.go_to(mem, pos)? {
+                    Ok(()) => "ok".to_string(),
+                    Err(e) => e.to_string(),
+                };
+                mem.sync()?;
+                run.emit(Event::ActionFinished {
+                    action,
+                    outcome,
+                    pose: body.pose3(),
+                    path_length: body.odometry(),
+                });
+                if look_around {
+                    look_around_if_new(cx, mem, body, run);
+                }
+            }
+            Next::Explore(id, pos) => {
+                let action = format!("EXPLORE {}", names::placeholder(id));
+                run.metrics.actions += 1;
+                run.emit(Event::ActionStarted {
+                    action: action.clone(),
+                });
+                let binding = Binding::of(mem, cx.knowledge, &goal.class);
+                let ph = binding.placeholder_arg(id);
+                let from = mem.current_room();
+                let outcome = match body.go_to(mem, pos)? {
+                    Ok(()) => {
+                        crate::skills::enter::enter(cx, mem, body, run, &ph, from)?;
+                        "ok".to_string()
+                    }
+                    Err(e) => {
+                        // Unreachable or failed: never offered again (a failed motion
+                        // leaves the robot nearer, and the next choice is made afresh).
+                        mem.mark_unreachable(Target::Placeholder(id), ph.pos, from);
+                        e.to_string()
+                    }
+                };
+                run.emit(Event::ActionFinished {
+                    action,
+                    outcome,
+                    pose: body.pose3(),
+                    path_length: body.odometry(),
+                });
+                if look_around {
+                    look_around_if_new(cx, mem, body, run);
+                }
+            }
+        }
+    }
+}
+
+/// The share of room `r`'s points not yet covered.
+fn uncovered(cx: Ctx, mem: &Memory, r: RoomId, class: &ObjectClass, run: &Run) -> f64 {
+    let pts = cover_points(cx, mem, r, class);
+    if pts.is_empty() {
+        return 0.0;
+    }
+    pts.iter()
+        .filter(|p| !run.covered.contains(&run.key(**p)))
+        .count() as f64
+        / pts.len() as f64
+}
+
+/// Path length from `from` to the nearest place of room `r` on the known map.
+fn room_distance(mem: &Memory, from: [f64; 2], r: RoomId) -> Option<f64> {
+    let places = mem.wm.rooms().find(|(id, _)| *id == r)?.1;
+    let nearest = places
+        .iter()
+        .filter(|n| !mem.blocked.contains(n))
+        .filter_map(|&n| mem.wm.places.graph.node_weight(n).map(|p| p.pos))
+        .min_by(|a, b| dist(*a, from).total_cmp(&dist(*b, from)))?;
+    mem.path_len(from, nearest, true)
+}
+
+/// The coverage's next step from `at`: a room to cover or a placeholder to explore.
+fn next_step(
+    cx: Ctx,
+    mem: &Memory,
+    at: [f64; 2],
+    class: &ObjectClass,
+    strategy: Strategy,
+    run: &Run,
+) -> Option<Next> {
+    let covered_share = cx.tuning().covered_share;
+    let rooms: Vec<RoomId> = mem.wm.rooms().map(|(r, _)| r).collect();
+    let pending: Vec<(RoomId, f64)> = rooms
+        .into_iter()
+        .filter(|&r| uncovered(cx, mem, r, class, run) > 1.0 - covered_share)
+        .filter_map(|r| Some((r, room_distance(mem, at, r)?)))
+        .collect();
+    tracing::debug!(
+        rooms = ?mem
+            .wm
+            .rooms()
+            .map(|(r, _)| (r.0, uncovered(cx, mem, r, class, run), cover_points(cx, mem, r, class).len()))
+            .collect::<Vec<_>>(),
+        pending = ?pending,
+        "coverage: rooms left"
+    );
+    let nearest_room = pending
+        .iter()
+        .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
+        .map(|&(r, _)| r);
+    // Ties in path length go to the placeholder whose plan name sorts first.
+    let nearest_ph = mem
+        .phs
+        .iter()
+        .filter(|(k, _)| mem.registry[*k].explored.is_none())
+        .filter_map(|(k, c)| {
+            let l = mem.path_len(at, c.pos, true)?;
+            let id = mem.registry[*k].id;
+            Some((names::placeholder(id), id, c.pos, l))
+        })
+        .min_by(|a, b| a.3.total_cmp(&b.3).then(a.0.cmp(&b.0)));
+    let here_room = mem.current_room();
+    match strategy {
+        Strategy::Frontier => {
+            if let Some(r) = here_room.filter(|r| pending.iter().any(|(p, _)| p == r)) {
+                return Some(Next::Cover(r));
+            }
+            nearest_ph
+                .map(|(_, id, p, _)| Next::Explore(id, p))
+                .or(nearest_room.map(Next::Cover))
+        }
+        _ => nearest_room
+            .map(Next::Cover)
+            .or(nearest_ph.map(|(_, id, p, _)| Next::Explore(id, p))),
+    }
+}
+
+/// The nearest reachable known free cell that no room holds, at least `outside_rooms_min`
+/// from every place and from every point in `visited`.
+fn outside_rooms(cx: Ctx, mem: &Memory, at: [f64; 2], visited: &[[f64; 2]]) -> Option<[f64; 2]> {
+    let t = cx.tuning();
+    let places: Vec<[f64; 2]> = mem.wm.places.graph.node_weights().map(|p| p.pos).collect();
+    let mut candidates: Vec<([f64; 2], f64)> = mem
+        .with_trav(false, |tr| standable(&mem.grid, tr, t.point_spacing))
+        .into_iter()
+        .filter(|&p| {
+            mem.room_at(p).is_none()
+                && !places
+                    .iter()
+                    .chain(visited)
+                    .any(|q| dist(*q, p) < t.outside_rooms_min)
+        })
+        .map(|p| (p, dist(at, p)))
+        .collect();
+    candidates.sort_by(|a, b| a.1.total_cmp(&b.1));
+    candidates
+        .into_iter()
+        .map(|(p, _)| p)
+        .find(|&p| mem.path_len(at, p, false).is_some())
+}
+
+/// Cover room `r` by view planning and process its views nearest-neighbour first; a
+/// detection confirmed by a second look is the goal. The views are planned for the room's
+/// points not yet covered, again after each pass, until `covered_share` of them are (or
+/// no view sees the rest, or a pass covers nothing: the rest is given up on).
+fn cover_room<R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+    goal: &Goal,
+    room: RoomId,
+) -> Result<Option<FoundObject>, AgentError> {
+    let label = goal.class.clone();
+    let Some(class) = cx.knowledge.class(&label).cloned() else {
+        return Ok(None);
+    };
+    let covered_share = cx.tuning().covered_share;
+    let loc = ConeLoc::Room(room.0);
+    loop {
+        let all = cover_points(cx, mem, room, &class);
+        let todo: Vec<[f64; 3]> = all
+            .iter()
+            .copied()
+            .filter(|p| !run.covered.contains(&run.key(*p)))
+            .collect();
+        if todo.len() as f64 <= (1.0 - covered_share) * all.len() as f64 {
+            return Ok(None);
+        }
+        let cam = body.camera();
+        let set = plan_cones(
+            cx,
+            mem,
+            &cam,
+            &label,
+            loc,
+            Some(todo.clone()),
+            &view_zooms(cam.max_zoom),
+        )
+        .filter(|s| !s.views.is_empty());
+        let Some(set) = set else {
+            // No view sees what is left: the room is done.
+            run.cover(todo.iter().copied());
+            return Ok(None);
+        };
+        run.observe(format!(
+            "covering room{} with {} view cones for {} of its {} points",
+            room.0,
+            set.views.len(),
+            todo.len(),
+            all.len()
+        ));
+        let before = run.covered.len();
+        if let Some(f) = process_views(cx, mem, body, run, &label, room, &set)? {
+            return Ok(Some(f));
+        }
+        if run.metrics.actions >= cx.config.max_cover_actions {
+            return Ok(None);
+        }
+        let truncated = set.views.len() >= cx.config.max_cones;
+        if run.covered.len() == before || !truncated {
+            // Every view was planned and processed (or none got anywhere): what they did
+            // not cover, no view can.
+            run.cover(todo.iter().copied());
+            return Ok(None);
+        }
+    }
+}
+
+/// The points covering room `r` looks at for `class`: the room's known cells at the
+/// coverage's heights (the floor and every surface's top), and the cells on top of the
+/// known furniture in the room that the laser never saw into (it sees a table's edge, not
+/// its top: a box at the back of a table against a wall lies at no known cell), each at its
+/// surface's height. Both on the one lattice of `point_spacing`, so that a point keeps its
+/// key as the map grows.
+fn cover_points(cx: Ctx, mem: &Memory, r: RoomId, class: &ObjectClass) -> Vec<[f64; 3]> {
+    let mut pts = room_points(cx, mem, r.0, class, true);
+    if class.landmark {
+        return pts;
+    }
+    let step = lattice_step(&mem.grid, cx.tuning().point_spacing);
+    let surfaces: Vec<Surface> = mem
+        .surfaces(cx.knowledge)
+        .into_iter()
+        .filter(|s| s.room == Some(r))
+        .collect();
+    pts.extend(unseen_tops(&mem.grid, &surfaces, step, 0.5 * class.size[2]));
+    pts
+}
+
+/// Process `set`'s views nearest-neighbour first, marking their points covered; the first
+/// detection a closer look confirms is returned.
+fn process_views<R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+    label: &str,
+    room: RoomId,
+    set: &ConeSet,
+) -> Result<Option<FoundObject>, AgentError> {
+    let mut todo: Vec<usize> = (0..set.views.len()).collect();
+    while !todo.is_empty() {
+        if run.metrics.actions >= cx.config.max_cover_actions {
+            return Ok(None);
+        }
+        let here = body.at();
+        let (j, _) = todo
+            .iter()
+            .enumerate()
+            .map(|(j, &v)| {
+                let p = set.views[v].pose;
+                (j, dist([p[0], p[1]], here))
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("not empty");
+        let v = todo.remove(j);
+        let view = &set.views[v];
+        run.metrics.actions += 1;
+        let action = format!("PROCESSVIEWCONE {label} room{} {}", room.0, view_text(view));
+        run.emit(Event::ActionStarted {
+            action: action.clone(),
+        });
+        let moved = body.go_to(mem, [view.pose[0], view.pose[1]])?;
+        let vc = ViewCone::new(
+            Pose2D::new(view.pose[0], view.pose[1], view.pose[2]),
+            view.pan,
+            view.tilt,
+            view.zoom,
+        );
+        let first = if moved.is_ok() {
+            look(cx, mem, body, &vc, label)
+        } else {
+            None
+        };
+        let confirmed = match first {
+            Some(d) => verify(cx, mem, body, run, label, &d)?,
+            None => None,
+        };
+        body.refresh_map(mem);
+        if moved.is_ok() {
+            run.cover(set.cells[v].iter().map(|&i| set.points[i]));
+        }
+        run.emit(Event::ActionFinished {
+            action,
+            outcome: match (&moved, &confirmed) {
+                (Err(e), _) => e.to_string(),
+                (_, Some(_)) => "detected and confirmed".into(),
+                _ => "ok".into(),
+            },
+            pose: body.pose3(),
+            path_length: body.odometry(),
+        });
+        if let Some(d) = confirmed {
+            let k = mem.objects.len();
+            let place = mem
+                .object_place([d.pose.x, d.pose.y])
+                .or_else(|| mem.current_place());
+            if let Some(place) = place {
+                mem.objects.push(Known {
+                    class: label.to_string(),
+                    pos: d.pose,
+                    place,
+                    landmark: None,
+                    on: None,
+                });
+            }
+            return Ok(Some(FoundObject {
+                name: names::object(k),
+                class: label.to_string(),
+                pose: d.pose,
+                confidence: d.confidence,
+            }));
+        }
+    }
+    Ok(None)
+}
+
+/// One coverage view: the most confident new sighting of `label`, anywhere in the view (a
+/// view from near a door sees past it, and the goal is the object wherever it is:
+/// verification decides).
+fn look<R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &Memory,
+    body: &mut Body<R>,
+    vc: &ViewCone,
+    label: &str,
+) -> Option<Detection> {
+    let r = body.look(vc, &[label.to_string()]).ok()?;
+    for d in &r.detections {
+        tracing::debug!(
+            class = %d.class,
+            x = d.pose.x,
+            y = d.pose.y,
+            confidence = d.confidence,
+            new = mem.is_new_sighting(d),
+            "coverage view"
+        );
+    }
+    r.detections
+        .into_iter()
+        .filter(|d| d.class == label && d.confidence >= cx.config.min_confidence)
+        .filter(|d| mem.is_new_sighting(d))
+        .max_by(|a, b| a.confidence.total_cmp(&b.confidence))
+}
