@@ -17,7 +17,7 @@ use crate::skills::session::{dt_search, Search};
 use crate::skills::views::create_cones;
 use crate::skills::Ctx;
 use crate::strategy::{baseline_loop, cover_all};
-use crate::trace::{Event, TraceSink};
+use crate::trace::{Event, Outcome, TraceSink};
 use crate::world_model::WorldModel;
 use crate::AgentError;
 use avs_concepts::ConceptualMap;
@@ -264,8 +264,8 @@ fn main_loop<R: Robot + ?Sized>(
                 }),
             };
             let outcome = match &end {
-                StepEnd::Replan(ReplanReason::ActionFailed(f)) => f.to_string(),
-                _ => "ok".to_string(),
+                StepEnd::Replan(ReplanReason::ActionFailed(f)) => Outcome::Failed(f.to_string()),
+                _ => Outcome::Ok,
             };
             run.emit(Event::ActionFinished {
                 action: step.display.clone(),

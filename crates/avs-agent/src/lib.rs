@@ -245,7 +245,7 @@ pub use error::AgentError;
 pub use executive::Agent;
 pub use reason::{GiveUpReason, MoveFailure, ReplanReason};
 pub use report::{median, FoundObject, Goal, Metrics, SearchReport};
-pub use trace::{Event, TraceSink};
+pub use trace::{Event, Outcome, SessionOutcome, TraceSink, View};
 
 /// The robot boundary (trait, plain data, scripted double), re-exported.
 pub use avs_robot;

@@ -3,9 +3,92 @@
 //! kitchen`, `SEARCHFOROBJECT cerealbox ON new-object1 new-object2`) and as JSON lines.
 //!
 //! Events carry no wall-clock times, so the same seed gives byte-identical JSON lines; timings
-//! are kept in the search metrics instead.
+//! are kept in the search metrics instead. Outcomes are enums ([`Outcome`], [`SessionOutcome`])
+//! written as the same words in text and JSON; a camera action carries its view ([`View`]) as
+//! numbers, so tools need not read them back out of the listing line.
 
-use serde::Serialize;
+use serde::{Serialize, Serializer};
+use std::fmt;
+
+/// How an action ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Outcome {
+    /// It did what it was for.
+    Ok,
+    /// A coverage view saw the goal's class and a closer look confirmed it.
+    DetectedAndConfirmed,
+    /// It failed; the failure as the trace says it.
+    Failed(String),
+}
+
+impl Outcome {
+    /// Whether the action did not fail.
+    pub fn succeeded(&self) -> bool {
+        !matches!(self, Self::Failed(_))
+    }
+}
+
+impl fmt::Display for Outcome {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Ok => f.write_str("ok"),
+            Self::DetectedAndConfirmed => f.write_str("detected and confirmed"),
+            Self::Failed(e) => f.write_str(e),
+        }
+    }
+}
+
+impl Serialize for Outcome {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+/// How a view-cone POMDP session ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SessionOutcome {
+    /// It declared the object found, and verification confirmed it.
+    Found,
+    /// It declared the object found, and verification did not confirm it.
+    FalseAlarm,
+    /// It declared the object absent (or stopped without a declaration).
+    Absent,
+    /// The session could not be set up.
+    Failed(String),
+}
+
+impl fmt::Display for SessionOutcome {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Found => f.write_str("found"),
+            Self::FalseAlarm => f.write_str("false alarm"),
+            Self::Absent => f.write_str("absent"),
+            Self::Failed(e) => write!(f, "failed: {e}"),
+        }
+    }
+}
+
+impl Serialize for SessionOutcome {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+/// A camera view: where the robot stood and how the camera pointed (radians, as the
+/// `Robot` trait takes them).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct View {
+    /// x of the robot, metres.
+    pub x: f64,
+    /// y of the robot, metres.
+    pub y: f64,
+    /// Pan, radians relative to the robot's heading.
+    pub pan: f64,
+    /// Tilt, radians (negative looks down).
+    pub tilt: f64,
+    /// Zoom factor.
+    pub zoom: f64,
+}
 
 /// One event of the plan trace.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -41,7 +124,7 @@ pub enum Event {
         /// The listing line.
         action: String,
         /// `ok`, or the failure.
-        outcome: String,
+        outcome: Outcome,
         /// Robot pose `[x, y, yaw]` afterwards.
         pose: [f64; 3],
         /// Odometry so far, metres.
@@ -81,11 +164,14 @@ pub enum Event {
         action: String,
         /// Whether the target class was detected (for processed cones).
         detected: Option<bool>,
+        /// The view, for a look (PROCESSVIEWCONE, VERIFY).
+        #[serde(skip_serializing_if = "Option::is_none")]
+        view: Option<View>,
     },
     /// A DT session ended.
     DtSessionEnded {
-        /// `found` or `absent`.
-        outcome: String,
+        /// How it ended.
+        outcome: SessionOutcome,
         /// Cones processed.
         steps: usize,
     },
@@ -165,7 +251,9 @@ impl Event {
             } => format!(
                 "  DT session started: {search}, {cones} view cones, P(ObjectAt L) = {p_location:.3}\n"
             ),
-            Event::DtAction { action, detected } => match detected {
+            Event::DtAction {
+                action, detected, ..
+            } => match detected {
                 Some(true) => format!("      {action}: detected\n"),
                 Some(false) => format!("      {action}: not detected\n"),
                 None => format!("      {action}\n"),

@@ -183,7 +183,7 @@ fn assert_replans_after_failures(r: &SearchReport, what: &str) -> usize {
     let mut failures = 0;
     for (i, e) in r.trace.iter().enumerate() {
         if let Event::ActionFinished { outcome, .. } = e {
-            if outcome == "ok" {
+            if outcome.succeeded() {
                 continue;
             }
             failures += 1;

@@ -244,7 +244,7 @@ fn a_small_object_on_the_floor_is_found_by_zoomed_coverage_and_verified() {
     // The verification looks that confirmed it saw it.
     assert!(r.trace.iter().any(|e| matches!(
         e,
-        Event::DtAction { action, detected: Some(true) } if action.starts_with("VERIFY")
+        Event::DtAction { action, detected: Some(true), .. } if action.starts_with("VERIFY")
     )));
 }
 

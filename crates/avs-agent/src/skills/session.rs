@@ -12,7 +12,7 @@ use crate::memory::{ConeLoc, Known, Memory};
 use crate::reason::ReplanReason;
 use crate::report::{FoundObject, Goal};
 use crate::run::{Run, StepEnd};
-use crate::trace::Event;
+use crate::trace::{Event, SessionOutcome, View};
 use crate::AgentError;
 use avs_concepts::{Location, RoomId};
 use avs_format::knowledge::Relation;
@@ -134,7 +134,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
             Ok(s) => s,
             Err(e) => {
                 run.emit(Event::DtSessionEnded {
-                    outcome: format!("failed: {e}"),
+                    outcome: SessionOutcome::Failed(e.to_string()),
                     steps: 0,
                 });
                 return Ok(StepEnd::Replan(ReplanReason::SessionFailed(e.to_string())));
@@ -190,6 +190,13 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                     run.emit(Event::DtAction {
                         action: format!("PROCESSVIEWCONE {cone} {}", view_text(v)),
                         detected: Some(detected),
+                        view: Some(View {
+                            x: v.pose[0],
+                            y: v.pose[1],
+                            pan: v.pan,
+                            tilt: v.tilt,
+                            zoom: v.zoom,
+                        }),
                     });
                     steps += 1;
                     if session.observe(detected).is_err() {
@@ -200,6 +207,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                     run.emit(Event::DtAction {
                         action: format!("DECLARE-FOUND cone {cone}"),
                         detected: None,
+                        view: None,
                     });
                     if let Some(d) = best[cone].clone() {
                         match verify(cx, mem, body, run, label, &d)? {
@@ -213,6 +221,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                     run.emit(Event::DtAction {
                         action: "DECLARE-ABSENT".into(),
                         detected: None,
+                        view: None,
                     });
                     break;
                 }
@@ -235,9 +244,9 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
     }
     run.emit(Event::DtSessionEnded {
         outcome: match (&outcome, unconfirmed) {
-            (Some(_), _) => "found".into(),
-            (None, Some(_)) => "false alarm".into(),
-            (None, None) => "absent".into(),
+            (Some(_), _) => SessionOutcome::Found,
+            (None, Some(_)) => SessionOutcome::FalseAlarm,
+            (None, None) => SessionOutcome::Absent,
         },
         steps,
     });

@@ -6,7 +6,7 @@ use crate::body::Body;
 use crate::geometry::{sight_clear, SightLine};
 use crate::memory::{path_len_on, Memory};
 use crate::run::Run;
-use crate::trace::Event;
+use crate::trace::{Event, View};
 use crate::AgentError;
 use avs_map::grid::Cell;
 use avs_robot::{Detection, Robot, ViewCone};
@@ -131,6 +131,13 @@ pub(crate) fn verify<R: Robot + ?Sized>(
                 target[0], target[1], pose.x, pose.y
             ),
             detected: Some(seen.is_some()),
+            view: Some(View {
+                x: pose.x,
+                y: pose.y,
+                pan,
+                tilt,
+                zoom,
+            }),
         });
         if let Some(e) = seen {
             hits += 1;

@@ -12,7 +12,7 @@ use crate::skills::look_around::look_around_if_new;
 use crate::skills::verify::verify;
 use crate::skills::views::{plan_cones, room_points, view_text};
 use crate::skills::Ctx;
-use crate::trace::Event;
+use crate::trace::{Event, Outcome};
 use crate::AgentError;
 use avs_concepts::RoomId;
 use avs_format::knowledge::ObjectClass;
@@ -90,8 +90,8 @@ pub(crate) fn cover_all<R: Robot + ?Sized>(
                     action: action.clone(),
                 });
                 let outcome = match body.go_to(mem, pos)? {
-                    Ok(()) => "ok".to_string(),
-                    Err(e) => e.to_string(),
+                    Ok(()) => Outcome::Ok,
+                    Err(e) => Outcome::Failed(e.to_string()),
                 };
                 mem.sync()?;
                 run.emit(Event::ActionFinished {
@@ -116,13 +116,13 @@ pub(crate) fn cover_all<R: Robot + ?Sized>(
                 let outcome = match body.go_to(mem, pos)? {
                     Ok(()) => {
                         crate::skills::enter::enter(cx, mem, body, run, &ph, from)?;
-                        "ok".to_string()
+                        Outcome::Ok
                     }
                     Err(e) => {
                         // Unreachable or failed: never offered again (a failed motion
                         // leaves the robot nearer, and the next choice is made afresh).
                         mem.mark_unreachable(Target::Placeholder(id), ph.pos, from);
-                        e.to_string()
+                        Outcome::Failed(e.to_string())
                     }
                 };
                 run.emit(Event::ActionFinished {
@@ -387,9 +387,9 @@ fn process_views<R: Robot + ?Sized>(
         run.emit(Event::ActionFinished {
             action,
             outcome: match (&moved, &confirmed) {
-                (Err(e), _) => e.to_string(),
-                (_, Some(_)) => "detected and confirmed".into(),
-                _ => "ok".into(),
+                (Err(e), _) => Outcome::Failed(e.to_string()),
+                (_, Some(_)) => Outcome::DetectedAndConfirmed,
+                _ => Outcome::Ok,
             },
             pose: body.pose3(),
             path_length: body.odometry(),
