@@ -432,7 +432,7 @@ fn execute<R: Robot + ?Sized>(
         } => {
             let assumption = plan.steps[..i]
                 .iter()
-                .filter(|s| s.assumption && s.args.iter().any(|a| *a == obj.name))
+                .filter(|s| s.assumption && s.args.contains(&obj.name))
                 .map(|s| s.display.clone())
                 .next_back();
             let search = Search {
