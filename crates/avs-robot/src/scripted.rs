@@ -26,7 +26,9 @@ pub enum Call {
 /// ([`ScriptedRobot::script_move`]), and a view returns the next scripted reply
 /// ([`ScriptedRobot::script_view`]) or, when none is left, every placed object
 /// ([`ScriptedRobot::place`]) whose position lies inside the view's image (fields of view
-/// divided by the zoom; no occlusion, no noise). Deterministic; nothing random.
+/// divided by the zoom; no occlusion, no noise). With [`ScriptedRobot::with_laser`] the map
+/// grows as the robot moves: every cell of a true map within the laser's range of a pose the
+/// robot reaches becomes known (no occlusion). Deterministic; nothing random.
 #[derive(Debug, Clone)]
 pub struct ScriptedRobot {
     grid: OccupancyGrid,
@@ -38,6 +40,7 @@ pub struct ScriptedRobot {
     views: VecDeque<ActionResult<Vec<Detection>>>,
     objects: Vec<Detection>,
     calls: Vec<Call>,
+    laser: Option<(OccupancyGrid, f64)>,
 }
 
 impl ScriptedRobot {
@@ -53,6 +56,37 @@ impl ScriptedRobot {
             views: VecDeque::new(),
             objects: Vec::new(),
             calls: Vec::new(),
+            laser: None,
+        }
+    }
+
+    /// A robot whose laser reveals `truth` within `range` metres of every pose it reaches,
+    /// starting with what it sees from `pose` (the map starts all unknown).
+    pub fn with_laser(truth: OccupancyGrid, range: f64, pose: Pose2D, camera: Camera) -> Self {
+        let mut unknown = truth.clone();
+        for row in 0..truth.height() {
+            for col in 0..truth.width() {
+                unknown.set(col, row, Cell::Unknown);
+            }
+        }
+        let mut r = Self::new(unknown, pose, camera);
+        r.laser = Some((truth, range));
+        r.scan();
+        r
+    }
+
+    /// Reveal the true map around the current pose.
+    fn scan(&mut self) {
+        let Some((truth, range)) = &self.laser else {
+            return;
+        };
+        for row in 0..truth.height() {
+            for col in 0..truth.width() {
+                let (x, y) = truth.cell_center(col as i64, row as i64);
+                if (x - self.pose.x).hypot(y - self.pose.y) <= *range {
+                    self.grid.set(col, row, truth.get(col, row));
+                }
+            }
         }
     }
 
@@ -130,6 +164,7 @@ impl Robot for ScriptedRobot {
         let travelled = self.pose.distance(&goal);
         self.odometry += travelled;
         self.pose = goal;
+        self.scan();
         Ok(MoveReport {
             pose: goal,
             travelled,
@@ -268,6 +303,31 @@ mod tests {
         let first = r.map_update();
         assert_eq!(first.newly_known, 24);
         assert_eq!(r.map_update().newly_known, 0);
+    }
+
+    #[test]
+    fn the_laser_reveals_the_true_map_around_each_pose_reached() {
+        let truth = OccupancyGrid::from_ascii(
+            &format!("{}\n{}", "#".repeat(40), ".".repeat(40)),
+            0.5,
+            [0.0, 0.0],
+        )
+        .expect("valid map");
+        let mut r =
+            ScriptedRobot::with_laser(truth, 2.0, Pose2D::new(0.25, 0.25, 0.0), Camera::default());
+        let known = |r: &mut ScriptedRobot| {
+            let g = r.map_update().grid;
+            g.cells().len() - g.count(Cell::Unknown)
+        };
+        let before = known(&mut r);
+        assert!(before > 0 && before < 80);
+        r.move_to(Pose2D::new(10.25, 0.25, 0.0)).unwrap();
+        assert!(known(&mut r) > before);
+        assert_eq!(
+            r.map_update().grid.get(39, 0),
+            Cell::Unknown,
+            "beyond the range"
+        );
     }
 
     #[test]

@@ -121,3 +121,60 @@ pub(crate) fn enter<R: Robot + ?Sized>(
     }
     mem.sync()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::binding::Binding;
+    use crate::skills::testing;
+    use crate::AgentConfig;
+    use avs_map::grid::Cell;
+    use avs_robot::{Camera, Pose2D, ScriptedRobot};
+
+    #[test]
+    fn entering_a_placeholder_through_a_door_goes_beyond_it_and_files_where_it_led() {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        // Two 4 m × 4 m rooms side by side, a 0.9 m door in the wall between them.
+        let mut truth = testing::room(8.0, 4.0);
+        for row in 0..40 {
+            if !(16..25).contains(&row) {
+                truth.set(40, row, Cell::Occupied);
+            }
+        }
+        let mut robot =
+            ScriptedRobot::with_laser(truth, 3.5, Pose2D::new(2.0, 2.0, 0.0), Camera::default());
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let from = mem.current_room().expect("the robot stands in a room");
+        let binding = Binding::of(&mem, &k, "cerealbox");
+        let id = mem
+            .phs
+            .iter()
+            .map(|(i, c)| (mem.registry[*i].id, c.pos))
+            .filter(|(_, p)| p[0] > 4.2)
+            .min_by(|a, b| a.1[0].total_cmp(&b.1[0]))
+            .map(|(id, _)| id)
+            .unwrap_or_else(|| panic!("no placeholder beyond the door: {:?}", mem.phs));
+        let ph = binding.placeholder_arg(id);
+        let mut sink = testing::sink();
+        let mut run = testing::run(&mut sink);
+        let cx = Ctx {
+            knowledge: &k,
+            config: &config,
+        };
+        let mut body = Body::new(&mut robot);
+        body.go_to(&mut mem, ph.pos.expect("in the problem"))
+            .unwrap()
+            .expect("the door is open");
+        enter(cx, &mut mem, &mut body, &mut run, &ph, Some(from)).unwrap();
+        assert!(body.at()[0] > 4.2, "the robot went beyond: {:?}", body.at());
+        let e = mem
+            .registry
+            .iter()
+            .find(|e| e.id == id)
+            .expect("still tracked");
+        let (origin, led) = e.explored.expect("explored");
+        assert_eq!(origin, from.0);
+        let led = led.expect("it led to a room");
+        assert_ne!(mem.wm.room_of(led), Some(from), "{}", testing::text(&run));
+    }
+}
