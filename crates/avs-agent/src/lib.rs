@@ -223,14 +223,11 @@
 //!   verification and no prior knowledge (module `strategy`).
 //! * **Determinism.** Trace events carry no wall-clock times; with the planner's default expansion
 //!   budgets and a seeded robot, the same seed gives byte-identical JSON lines.
-#![warn(missing_docs)]
-
 mod binding;
 mod body;
 pub mod config;
 mod error;
 pub mod executive;
-mod geometry;
 mod memory;
 pub mod reason;
 pub mod report;

@@ -254,12 +254,18 @@ fn schemas_describe_environment_knowledge_and_scenario_files() {
 }
 
 #[test]
-fn domain_schema_names_the_missing_piece_instead_of_inventing_one() {
+fn domain_schema_requires_the_parts_of_a_domain_and_the_kind_domain() {
     let o = avs(&corpus(), &["schema", "domain"]);
-    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
-    assert!(
-        String::from_utf8_lossy(&o.stderr).contains("avs-plan"),
-        "{}",
-        text(&o)
-    );
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON schema");
+    let req: Vec<&str> = s["required"]
+        .as_array()
+        .expect("required fields")
+        .iter()
+        .filter_map(|v| v.as_str())
+        .collect();
+    for f in ["kind", "name", "types", "variables", "operators"] {
+        assert!(req.contains(&f), "{f} not required: {req:?}");
+    }
+    assert_eq!(s["properties"]["kind"]["enum"][0], "domain");
 }

@@ -84,8 +84,6 @@
 //!     room: corridor, open_area_m2: 8.0, door_distance_m: Some(0.4) }).unwrap();
 //! assert!(map.p_new_room(PlaceholderId(0)).unwrap() > 0.5);
 //! ```
-#![warn(missing_docs)]
-
 pub mod bp;
 pub mod exact;
 pub mod factor;

@@ -54,8 +54,6 @@
 //! assert_eq!(err.diagnostics[0].path, "name");
 //! assert_eq!(err.diagnostics[0].line, Some(2));
 //! ```
-#![warn(missing_docs)]
-
 pub mod check_env;
 pub mod diag;
 pub mod environment;

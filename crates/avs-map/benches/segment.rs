@@ -1,5 +1,9 @@
 //! Room segmentation time on the IPA benchmark maps (`../shared/data/rooms`); skipped when the
 //! reference data is absent.
+#![expect(
+    missing_docs,
+    reason = "criterion_group! generates an undocumented public function"
+)]
 
 use avs_map::grid::OccupancyGrid;
 use avs_map::segment::{segment_rooms, SegmentParams};

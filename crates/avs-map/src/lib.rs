@@ -21,8 +21,6 @@
 //! let g = OccupancyGrid::from_ascii("###\n#.#\n###\n", 0.5, [0.0, 0.0]).unwrap();
 //! assert_eq!(g.get(1, 1), Cell::Free);
 //! ```
-#![warn(missing_docs)]
-
 pub mod doors;
 pub mod explore;
 pub mod grid;

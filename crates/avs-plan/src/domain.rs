@@ -27,14 +27,16 @@
 
 use crate::expr::{self, RawExpr, RawTerm};
 use avs_format::Diagnostic;
+use schemars::JsonSchema;
 use serde::Deserialize;
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 /// A domain file as written.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RawDomain {
     /// Must be `domain`.
+    #[schemars(schema_with = "domain_kind")]
     pub kind: avs_format::FileKind,
     /// Name of the domain.
     pub name: String,
@@ -65,8 +67,27 @@ pub struct RawDomain {
     pub assumptions_first: bool,
 }
 
+/// The schema of `kind:` in a domain file: the one word `domain`.
+fn domain_kind(_: &mut schemars::gen::SchemaGenerator) -> schemars::schema::Schema {
+    schemars::schema::SchemaObject {
+        instance_type: Some(schemars::schema::InstanceType::String.into()),
+        enum_values: Some(vec![serde_json::json!("domain")]),
+        ..Default::default()
+    }
+    .into()
+}
+
+/// The JSON Schema (pretty-printed JSON) of domain files, generated from [`RawDomain`], for
+/// editors and `avs schema domain`. Expressions (`precondition`, `effect`, `cost`, …) are
+/// strings to the schema; their grammar is checked by [`Domain::from_yaml`].
+pub fn schema_json() -> String {
+    let schema = schemars::schema_for!(RawDomain);
+    // Serialising a schema (plain maps and strings) cannot fail.
+    serde_json::to_string_pretty(&schema).unwrap_or_default()
+}
+
 /// A pool of virtual objects `prefix1 … prefixN` of one type.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RawPool {
     /// Their type.
@@ -79,7 +100,7 @@ pub struct RawPool {
 }
 
 /// A state variable as written.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RawVariable {
     /// Parameter types.
@@ -97,7 +118,7 @@ pub struct RawVariable {
 }
 
 /// A number or a function call, as written.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(untagged)]
 pub enum RawQuantity {
     /// A constant.
@@ -107,7 +128,7 @@ pub enum RawQuantity {
 }
 
 /// An operator as written.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RawOperator {
     /// Name.

@@ -909,7 +909,10 @@ fn unsolvable(mut task: Task) -> Task {
     task
 }
 
-#[allow(clippy::too_many_arguments)]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the grounding recursion threads its whole state through each level"
+)]
 fn enumerate(
     a: &Action,
     cands: &[Vec<usize>],

@@ -8,7 +8,10 @@ use proptest::prelude::*;
 /// Minimum of cost + R(1 − p) over all plans with p ≥ `theta`, by depth-first enumeration of
 /// paths without repeated states (a repeated state never helps: costs ≥ 0 and probabilities ≤ 1).
 fn brute_force(task: &Task, reward: f64, theta: f64) -> Option<f64> {
-    #[allow(clippy::too_many_arguments)]
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "the depth-first search threads its whole state through the recursion"
+    )]
     fn dfs(
         t: &Task,
         s: &[u32],

@@ -1,5 +1,9 @@
 //! Criterion benches: HSVI on tiger.95 to a gap of 1e-3, and one online decision of a 20-cone
 //! view-cone session (RTBSS, depth 2, on offline bounds computed when the session starts).
+#![expect(
+    missing_docs,
+    reason = "criterion_group! generates an undocumented public function"
+)]
 use avs_pomdp::{
     euclidean_travel, DecisionRewards, OfflineOptions, OnlineOptions, SessionOptions,
     ViewConeProblem, ViewConeSession,

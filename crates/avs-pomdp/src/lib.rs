@@ -11,8 +11,8 @@
 //! * [`online`] — RTBSS (Ross, Pineau, Paquet & Chaib-draa 2008, Algorithm 3.2): depth-limited
 //!   forward search with branch-and-bound on the offline bounds; [`online::expectimax`] is the
 //!   brute-force reference.
-//! * [`viewcone`] — the view-cone POMDP and the closed-loop [`ViewConeSession`];
-//!   [`cover`] — CREATEVIEWCONES by greedy coverage (Sjöö et al., `004` §2.1).
+//! * [`viewcone`] — the view-cone POMDP and the closed-loop [`ViewConeSession`] (the cones
+//!   themselves come from CREATEVIEWCONES, which lives in `avs-view`).
 //! * [`simulate`](mod@simulate) — seeded Monte-Carlo evaluation of a policy.
 //!
 //! ## Choices where the papers are vague
@@ -47,11 +47,6 @@
 //!   hundredfold, but it changes the sessions' decisions (see BENCHMARKS.md, `avs run`).
 //! * **RTBSS leaves.** At depth 1 the children are leaves, so all actions are evaluated exactly
 //!   instead of being ordered by U (same value, less work); deeper, Algorithm 3.2 is followed.
-//! * **CREATEVIEWCONES.** Candidate pans/tilts are spaced by half the field of view; visibility is the
-//!   cell-centre test of §2.1.2 plus the object's min/max distance (§2.1.3) and a caller-supplied
-//!   line-of-sight predicate; views are chosen by greedy set cover (§2.1.4). The points are whatever
-//!   the caller samples: a room's cells, or the top / inside of a landmark object; §2.1.5's extra tilt
-//!   views for near cells are subsumed by trying every tilt step for every pose and pan.
 //!
 //! ## Example
 //! ```
@@ -71,11 +66,8 @@
 //! // The first action of the lower bound's policy at b₀ is to listen.
 //! assert_eq!(sol.bounds.lower_action(model.initial_belief()), 0);
 //! ```
-#![warn(missing_docs)]
-
 pub mod bounds;
 pub mod cassandra;
-pub mod cover;
 pub mod error;
 pub mod model;
 pub mod offline;
@@ -85,10 +77,6 @@ pub mod viewcone;
 
 pub use bounds::{AlphaVector, Bounds};
 pub use cassandra::{parse_pomdp, read_pomdp_file};
-pub use cover::{
-    create_view_cones, create_view_cones_zoomed, CameraModel, DetectionRange, PlannedView,
-    ViewConePlan,
-};
 pub use error::{PomdpError, Result};
 pub use model::{Pomdp, PomdpTables};
 pub use offline::{solve, solve_from, OfflineOptions, OfflineSolution, StopReason};

@@ -3,10 +3,10 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use avs_pomdp::{
-    cone_priors, create_view_cones, euclidean_travel, CameraModel, DecisionRewards, DetectionRange,
-    OfflineOptions, OnlineOptions, Outcome, SessionOptions, ViewConeAction, ViewConeProblem,
-    ViewConeSession,
+    cone_priors, euclidean_travel, DecisionRewards, OfflineOptions, OnlineOptions, Outcome,
+    SessionOptions, ViewConeAction, ViewConeProblem, ViewConeSession,
 };
+use avs_view::{create_view_cones, CameraModel, DetectionRange};
 
 #[test]
 fn cones_planned_for_a_room_lead_a_perfect_sensor_to_the_target_cell() {
@@ -79,4 +79,48 @@ fn cones_planned_for_a_room_lead_a_perfect_sensor_to_the_target_cell() {
             "target cell {target_cell}"
         );
     }
+}
+
+/// The room of the coverage tests (`avs-view`).
+fn cover_room_points() -> Vec<[f64; 3]> {
+    let mut pts = Vec::new();
+    for i in 0..12 {
+        for j in 0..8 {
+            pts.push([0.25 + 0.5 * i as f64, 0.25 + 0.5 * j as f64, 0.75]);
+        }
+    }
+    pts
+}
+
+/// The camera of the coverage tests (`avs-view`).
+fn cover_camera() -> CameraModel {
+    CameraModel {
+        hfov: 60f64.to_radians(),
+        vfov: 45f64.to_radians(),
+        pan_limits: [-PI, PI],
+        tilt_limits: [-0.6, 0.2],
+        height: 1.2,
+    }
+}
+
+#[test]
+fn cone_priors_split_the_location_mass_without_double_counting() {
+    let pts = cover_room_points();
+    let poses = [[1.0, 2.0, 0.0], [3.0, 2.0, 0.0], [5.0, 2.0, 0.0]];
+    let range = DetectionRange { min: 0.5, max: 4.0 };
+    let plan = create_view_cones(&pts, &poses, &cover_camera(), range, |_, _| true).unwrap();
+    let weights = vec![1.0; pts.len()];
+    let priors = cone_priors(&plan.cone_cells(), &weights, 0.6).unwrap();
+    assert!((priors.iter().sum::<f64>() - 0.6).abs() < 1e-9);
+    for (p, v) in priors.iter().zip(&plan.views) {
+        assert!((p - 0.6 * v.newly_covered.len() as f64 / pts.len() as f64).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn cone_priors_name_a_cell_out_of_range() {
+    assert!(cone_priors(&[vec![99]], &[1.0], 0.5)
+        .unwrap_err()
+        .to_string()
+        .contains("cone_cells"));
 }

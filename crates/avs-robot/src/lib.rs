@@ -28,8 +28,6 @@
 //! robot.move_to(Pose2D::new(1.75, 0.75, 0.0)).unwrap();
 //! assert!((robot.odometry() - 1.0).abs() < 1e-12);
 //! ```
-#![warn(missing_docs)]
-
 use avs_map::grid::OccupancyGrid;
 use serde::{Deserialize, Serialize};
 

@@ -25,8 +25,6 @@
 //! let m = robot.move_to([4.25, 1.25]);
 //! assert!(m.reached && robot.path_length > 3.0);
 //! ```
-#![warn(missing_docs)]
-
 pub mod check;
 pub mod explore;
 pub mod generate;

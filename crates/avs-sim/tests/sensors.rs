@@ -74,7 +74,10 @@ fn rate_near(
 }
 
 /// As [`rate_near`], with the view's fields of view already divided by `zoom`.
-#[allow(clippy::too_many_arguments)]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "a test helper mirroring the detector's own parameters one by one"
+)]
 fn rate_near_zoomed(
     det: &Detector,
     w: &World,

@@ -10,8 +10,6 @@
 //!     assert!(dir.is_dir());
 //! }
 //! ```
-#![warn(missing_docs)]
-
 use std::io::Write;
 use std::path::PathBuf;
 

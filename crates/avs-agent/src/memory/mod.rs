@@ -15,13 +15,12 @@ use avs_map::grid::{Cell, OccupancyGrid};
 use avs_map::nav::{shortest_path_within, Traversability};
 use avs_map::places::dist;
 use avs_map::raycast::line_of_sight;
-use avs_pomdp::PlannedView;
 use avs_robot::{Detection, Point3};
+use avs_view::PlannedView;
+use avs_view::Surface;
 use petgraph::graph::NodeIndex;
 use std::cell::RefCell;
 use std::collections::{BTreeMap, BTreeSet};
-
-use crate::geometry::Surface;
 
 /// A placeholder the agent tracks under a stable name.
 #[derive(Debug, Clone)]
@@ -310,21 +309,30 @@ impl Memory {
     }
 
     /// The tops of the known furniture that small objects rest on
-    /// ([`crate::geometry::surface_classes`]).
+    /// ([`avs_view::surface_classes`]).
     pub fn surfaces(&self, knowledge: &Knowledge) -> Vec<Surface> {
-        let kinds = crate::geometry::surface_classes(knowledge, None);
+        self.surfaces_in_rooms(knowledge)
+            .into_iter()
+            .map(|(s, _)| s)
+            .collect()
+    }
+
+    /// [`Self::surfaces`], each with the room the furniture stands in: that of its centre's
+    /// cell, else that of the place it was filed under.
+    pub fn surfaces_in_rooms(&self, knowledge: &Knowledge) -> Vec<(Surface, Option<RoomId>)> {
+        let kinds = avs_view::surface_classes(knowledge, None);
         self.objects
             .iter()
             .filter(|o| o.landmark.is_some() && kinds.contains(o.class.as_str()))
             .filter_map(|o| {
                 let c = knowledge.class(&o.class)?;
                 let center = [o.pos.x, o.pos.y];
-                Some(Surface {
+                let s = Surface {
                     center,
                     radius: 0.5 * c.size[0].hypot(c.size[1]),
                     top: c.size[2],
-                    room: self.room_at(center).or_else(|| self.room_for(o.place)),
-                })
+                };
+                Some((s, self.room_at(center).or_else(|| self.room_for(o.place))))
             })
             .collect()
     }

@@ -3,13 +3,13 @@
 
 use super::Ctx;
 use crate::body::Body;
-use crate::geometry::{sight_clear, SightLine};
 use crate::memory::{path_len_on, Memory};
 use crate::run::Run;
 use crate::trace::{Event, View};
 use crate::AgentError;
 use avs_map::grid::Cell;
 use avs_robot::{Detection, Robot, ViewCone};
+use avs_view::{sight_clear, SightLine};
 
 /// Verify a sighting before reporting it: from the reachable point nearest the robot at the
 /// middle of the class's recognition range, with a clear line of sight, look through views

@@ -3,15 +3,17 @@
 //! the top of a known landmark.
 
 use super::Ctx;
-use crate::geometry::{lattice_step, search_heights, sight_clear, SightLine};
 use crate::memory::{standable, ConeLoc, ConeSet, Memory};
 use crate::run::Run;
 use avs_concepts::RoomId;
 use avs_format::knowledge::ObjectClass;
 use avs_map::grid::Cell;
 use avs_map::places::dist;
-use avs_pomdp::{create_view_cones_zoomed, CameraModel, DetectionRange, PlannedView};
 use avs_robot::Camera;
+use avs_view::{
+    create_view_cones_zoomed, lattice_step, search_heights, sight_clear, CameraModel,
+    DetectionRange, PlannedView, SightLine,
+};
 use std::collections::BTreeSet;
 
 /// CREATEVIEWCONES for `label` at `loc` (unzoomed, as the paper plans them): the cones are
@@ -45,7 +47,7 @@ pub(crate) fn create_cones(
 /// tops of the surfaces the knowledge names, within unzoomed range of some pose. The
 /// coverage before giving up also looks at the floor, where a small object is beyond its
 /// unzoomed range wherever the camera's tilt limit lets it look, and plans with
-/// [`view_zooms`](crate::geometry::view_zooms).
+/// [`view_zooms`](avs_view::view_zooms).
 pub(crate) fn plan_cones(
     cx: Ctx,
     mem: &Memory,

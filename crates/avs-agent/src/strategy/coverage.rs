@@ -3,7 +3,6 @@
 use crate::binding::{names, Binding};
 use crate::body::Body;
 use crate::config::Strategy;
-use crate::geometry::{lattice_step, unseen_tops, view_zooms, Surface};
 use crate::memory::{standable, ConeLoc, ConeSet, Known, Memory, Target};
 use crate::reason::GiveUpReason;
 use crate::report::{FoundObject, Goal};
@@ -18,6 +17,7 @@ use avs_concepts::RoomId;
 use avs_format::knowledge::ObjectClass;
 use avs_map::places::dist;
 use avs_robot::{Detection, Pose2D, Robot, ViewCone};
+use avs_view::{lattice_step, unseen_tops, view_zooms, Surface};
 
 /// What a coverage does next.
 enum Next {
@@ -323,9 +323,10 @@ fn cover_points(cx: Ctx, mem: &Memory, r: RoomId, class: &ObjectClass) -> Vec<[f
     }
     let step = lattice_step(&mem.grid, cx.tuning().point_spacing);
     let surfaces: Vec<Surface> = mem
-        .surfaces(cx.knowledge)
+        .surfaces_in_rooms(cx.knowledge)
         .into_iter()
-        .filter(|s| s.room == Some(r))
+        .filter(|(_, room)| *room == Some(r))
+        .map(|(s, _)| s)
         .collect();
     pts.extend(unseen_tops(&mem.grid, &surfaces, step, 0.5 * class.size[2]));
     pts

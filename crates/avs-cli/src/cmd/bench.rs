@@ -144,7 +144,10 @@ fn floor(
 }
 
 /// Run the benchmark; `tick` is called after each floor.
-#[allow(clippy::too_many_arguments)]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the bench takes every flag of the command"
+)]
 pub fn bench(
     knowledge: &Knowledge,
     domain: &avs_plan::domain::Domain,

@@ -173,7 +173,10 @@ pub struct SearchOutcome {
 /// One search of `goal` in `world` by an agent with `config`, the robot seeded by `seed` with
 /// `faults`; `on_event` sees every trace event as it happens. The result is scored against the
 /// truth.
-#[allow(clippy::too_many_arguments)]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "one search is the world, the knowledge, the domain, the goal, the seed, the settings, the faults and the sink"
+)]
 pub fn search_world(
     world: &World,
     knowledge: &Knowledge,

@@ -1,8 +1,6 @@
 //! CREATEVIEWCONES: coverage under field of view, distance limits and line of sight.
 
-use avs_pomdp::{
-    cone_priors, create_view_cones, create_view_cones_zoomed, CameraModel, DetectionRange,
-};
+use avs_view::{create_view_cones, create_view_cones_zoomed, CameraModel, DetectionRange};
 use std::f64::consts::PI;
 
 fn camera() -> CameraModel {
@@ -27,7 +25,7 @@ fn room_points() -> Vec<[f64; 3]> {
 }
 
 /// Independent check of §2.1.2–2.1.3 for one view and one point.
-fn sees(view: &avs_pomdp::PlannedView, cam: &CameraModel, r: DetectionRange, p: [f64; 3]) -> bool {
+fn sees(view: &avs_view::PlannedView, cam: &CameraModel, r: DetectionRange, p: [f64; 3]) -> bool {
     let c = [view.pose[0], view.pose[1], cam.height];
     let (dx, dy, dz) = (p[0] - c[0], p[1] - c[1], p[2] - c[2]);
     let horiz = dx.hypot(dy);
@@ -124,20 +122,6 @@ fn a_wall_blocking_line_of_sight_hides_the_far_half() {
 }
 
 #[test]
-fn cone_priors_split_the_location_mass_without_double_counting() {
-    let pts = room_points();
-    let poses = [[1.0, 2.0, 0.0], [3.0, 2.0, 0.0], [5.0, 2.0, 0.0]];
-    let range = DetectionRange { min: 0.5, max: 4.0 };
-    let plan = create_view_cones(&pts, &poses, &camera(), range, |_, _| true).unwrap();
-    let weights = vec![1.0; pts.len()];
-    let priors = cone_priors(&plan.cone_cells(), &weights, 0.6).unwrap();
-    assert!((priors.iter().sum::<f64>() - 0.6).abs() < 1e-9);
-    for (p, v) in priors.iter().zip(&plan.views) {
-        assert!((p - 0.6 * v.newly_covered.len() as f64 / pts.len() as f64).abs() < 1e-12);
-    }
-}
-
-#[test]
 fn bad_inputs_are_rejected_with_the_field_named() {
     let pts = room_points();
     let poses = [[1.0, 2.0, 0.0]];
@@ -154,10 +138,6 @@ fn bad_inputs_are_rejected_with_the_field_named() {
     )
     .unwrap_err();
     assert!(e.to_string().contains("poses"));
-    assert!(cone_priors(&[vec![99]], &[1.0], 0.5)
-        .unwrap_err()
-        .to_string()
-        .contains("cone_cells"));
 }
 
 #[test]

@@ -22,7 +22,7 @@
 //! needed and nowhere else (the candidate set stays small, and the wide unzoomed views keep
 //! doing the rest); the greedy choice then runs over all candidates together.
 
-use crate::error::{PomdpError, Result};
+use crate::error::{Result, ViewError};
 use std::f64::consts::PI;
 
 /// Camera geometry (angles in radians, lengths in metres).
@@ -80,7 +80,7 @@ pub struct ViewConePlan {
 }
 
 impl ViewConePlan {
-    /// Cells per view, in the form [`crate::viewcone::cone_priors`] takes.
+    /// Cells per view, in the form `avs_pomdp::cone_priors` takes.
     pub fn cone_cells(&self) -> Vec<Vec<usize>> {
         self.views.iter().map(|v| v.covered.clone()).collect()
     }
@@ -128,7 +128,7 @@ pub fn create_view_cones_zoomed(
     zooms: &[f64],
     line_of_sight: impl Fn([f64; 3], [f64; 3]) -> bool,
 ) -> Result<ViewConePlan> {
-    let bad = |field: &'static str, message: String| PomdpError::InvalidInput { field, message };
+    let bad = |field: &'static str, message: String| ViewError::InvalidInput { field, message };
     if points.iter().flatten().any(|v| !v.is_finite()) {
         return Err(bad("points", "coordinates must be finite".into()));
     }
@@ -253,7 +253,10 @@ struct Candidate {
 /// Append to `out` the candidate views at `zoom` (fields of view divided by it, distance
 /// interval multiplied by it) that cover some of the points `wanted`: every pose × pan × tilt
 /// on a grid of half the (zoomed) field of view.
-#[allow(clippy::too_many_arguments)]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the candidate generator needs the points, the camera, the range and the zoom level"
+)]
 fn zoom_candidates(
     points: &[[f64; 3]],
     wanted: &[usize],
