@@ -87,6 +87,7 @@
 pub mod bp;
 pub mod exact;
 pub mod factor;
+pub mod ids;
 pub mod io;
 pub mod map;
 pub mod model;
@@ -97,10 +98,8 @@ pub use avs_format::knowledge::Relation;
 pub use bp::{run_bp, BpOptions, BpResult, Updates};
 pub use exact::exact_marginals;
 pub use factor::{Factor, FactorGraph};
-pub use map::{
-    ConceptualMap, InferenceStats, LandmarkId, Location, PlaceId, Placeholder, PlaceholderId,
-    RoomId,
-};
+pub use ids::{LandmarkId, Location, PlaceId, Placeholder, PlaceholderId, RoomId};
+pub use map::{ConceptualMap, InferenceStats};
 pub use model::Model;
 pub use pairwise::MapBpOptions;
 

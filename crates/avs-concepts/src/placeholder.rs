@@ -21,7 +21,7 @@
 //! They are not fed back into the real rooms' beliefs, so that a hypothesis never changes what
 //! is believed about explored space.
 
-use crate::map::Placeholder;
+use crate::ids::Placeholder;
 use crate::model::Model;
 
 /// The six hypotheses of one placeholder and the categories of their rooms.
