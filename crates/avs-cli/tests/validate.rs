@@ -250,7 +250,18 @@ fn schemas_describe_environment_knowledge_and_scenario_files() {
     assert!(s["properties"].get("object_classes").is_some());
     let o = avs(&corpus(), &["schema", "scenario"]);
     let s: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON schema");
-    assert_eq!(s["required"][0], "kind");
+    let req: Vec<&str> = s["required"]
+        .as_array()
+        .expect("required fields")
+        .iter()
+        .filter_map(|v| v.as_str())
+        .collect();
+    for f in ["kind", "environment", "goal", "seed", "expect"] {
+        assert!(req.contains(&f), "{f} not required: {req:?}");
+    }
+    assert!(s["definitions"]["Expect"]["properties"]
+        .get("never_searched_in")
+        .is_some());
 }
 
 #[test]

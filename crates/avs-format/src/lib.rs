@@ -29,9 +29,10 @@
 //!   with a knowledge file, categories and classes are known ones and landmarks have landmark
 //!   classes. A room needs a `seed` or a `polygon`, since without either it has no extent.
 //!   Every check is linear (or n log n) in the file, so a large file cannot make it hang.
-//! - **Scenarios** ([`scenario`]) are only a header (`kind: scenario` in a mapping) until a
-//!   later issue defines them; [`schema::schema_json`] says exactly that for them and prints
-//!   the schemas of environments and knowledge files generated from the types (schemars).
+//! - **Scenarios** ([`scenario`]): a search re-enacted for a test or an experiment (world
+//!   edits, goal, seed, expected properties), run by `avs-eval`. [`schema::schema_json`] prints
+//!   the schemas of environments, knowledge and scenario files generated from the types
+//!   (schemars).
 //!
 //! ```
 //! use avs_format::{environment::Environment, load_yaml_str};

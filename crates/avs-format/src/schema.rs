@@ -9,7 +9,7 @@ pub fn schema_json(kind: FileKind) -> Option<String> {
     let schema = match kind {
         FileKind::Environment => schemars::schema_for!(crate::environment::Environment),
         FileKind::Knowledge => schemars::schema_for!(crate::knowledge::Knowledge),
-        FileKind::Scenario => schemars::schema_for!(crate::scenario::ScenarioHeader),
+        FileKind::Scenario => schemars::schema_for!(crate::scenario::Scenario),
         FileKind::Domain => return None,
     };
     serde_json::to_string_pretty(&schema).ok()

@@ -3,7 +3,7 @@
 //!
 //! Each file is dispatched on its `kind:`: environments get the map-free and geometric checks
 //! (`avs_sim::check`), knowledge files `avs_format::knowledge::check`, domains
-//! `avs_plan::check_domain`, scenarios a header check (their fields come later). When exactly one
+//! `avs_plan::check_domain`, scenarios `avs_format::scenario::check` (every field). When exactly one
 //! knowledge file is among the arguments (or given with `--knowledge`), environments are also
 //! checked against its room categories and object classes. Folders are searched for `*.yaml`.
 //!
