@@ -209,7 +209,7 @@
 //!   the paper does (`004` §2.1, §3.2). The coverage also looks at the floor, which a small
 //!   object's unzoomed detection range does not reach wherever the camera can tilt; it plans
 //!   at zoom levels 1, 2, 4, … up to the camera's maximum, each level only for the points the
-//!   lower ones cannot cover ([`avs_pomdp::create_view_cones_zoomed`]; at zoom `z` the fields
+//!   lower ones cannot cover ([`avs_view::create_view_cones_zoomed`]; at zoom `z` the fields
 //!   of view shrink and the detection range grows by `z`, `004` §3.4).
 //! * **Look-alikes.** A sighting that verification rejected is remembered (class, position);
 //!   later sightings of that class within 0.6 m of a place rejected twice are ignored. After
@@ -241,7 +241,7 @@ pub use config::{AgentConfig, Strategy, Tuning};
 pub use error::AgentError;
 pub use executive::Agent;
 pub use reason::{GiveUpReason, MoveFailure, ReplanReason};
-pub use report::{median, FoundObject, Goal, Metrics, SearchReport};
+pub use report::{FoundObject, Goal, Metrics, SearchReport};
 pub use trace::{Event, Outcome, SessionOutcome, TraceSink, View};
 
 /// The robot boundary (trait, plain data, scripted double), re-exported.
@@ -250,10 +250,3 @@ pub use avs_robot::{
     ActionFailure, ActionResult, Camera, Detection, FailureReason, MapUpdate, MoveReport, Point3,
     Pose2D, Robot, ScriptedRobot, ViewCone, ViewReport,
 };
-
-/// The former module path of [`Strategy`] and [`median`], kept until the CLI moves to the
-/// crate root.
-pub mod agent {
-    pub use crate::config::Strategy;
-    pub use crate::report::median;
-}

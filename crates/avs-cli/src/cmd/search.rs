@@ -2,21 +2,15 @@
 //! [--svg F] [--json] [--strategy planner|uninformed|frontier] [--failure-rate P]
 //! [--fp-scale X] [--close-door NAME@METRES]...`
 //!
-//! One object search by the agent in the simulated environment, with the plan trace printed as
-//! it happens and a summary. The agent never sees ground truth; this command reads it only to
+//! One object search by the agent in the simulated environment (an `avs_eval` episode), with the
+//! plan trace printed as it happens and a summary. The agent never sees ground truth; this command reads it only to
 //! score the result (error of the reported pose, shortest path, SPL).
 
 use anyhow::{anyhow, Context};
-use avs_agent::agent::median;
-use avs_agent::agent::Strategy;
-use avs_agent::{Agent, AgentConfig, Event, Goal, SearchReport};
-use avs_format::knowledge::Knowledge;
-use avs_plan::domain::Domain;
+use avs_agent::{AgentConfig, Event, Strategy};
+use avs_eval::episode::{load_inputs, run_episode, EpisodeSpec};
+pub use avs_eval::episode::{Faults, Summary};
 use avs_sim::robot::DoorEvent;
-use avs_sim::score::score;
-use avs_sim::sim_robot::{SimAgentRobot, SimRobotConfig};
-use avs_sim::World;
-use serde::Serialize;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -82,143 +76,6 @@ fn parse_door_event(s: &str) -> Result<DoorEvent, String> {
     })
 }
 
-/// The simulated robot's settings of a search: fault injection.
-#[derive(Debug, Clone, Default)]
-pub struct Faults {
-    /// Probability that a motion or a view fails.
-    pub failure_rate: f64,
-    /// Multiplier of the false-positive rate.
-    pub fp_scale: Option<f64>,
-    /// Doors closing (or opening) during the run.
-    pub door_events: Vec<DoorEvent>,
-}
-
-impl Faults {
-    fn robot_config(&self) -> SimRobotConfig {
-        let mut c = SimRobotConfig::default();
-        c.failures.motion = self.failure_rate;
-        c.failures.view = self.failure_rate;
-        if let Some(x) = self.fp_scale {
-            c.detector.false_positive_scale = x;
-        }
-        c.door_events = self.door_events.clone();
-        c
-    }
-}
-
-/// The figures of one search.
-#[derive(Debug, Serialize)]
-pub struct Summary {
-    /// Whether the agent reported an object of the goal class within 1 m of a true one
-    /// ([`avs_sim::score::SUCCESS_RADIUS`]).
-    pub found: bool,
-    /// The reported position `[x, y, z]`, if any.
-    pub reported_pose: Option<[f64; 3]>,
-    /// Planar distance from the reported position to the nearest true object of the class, m.
-    pub error: Option<f64>,
-    /// Distance driven, m.
-    pub path_length: f64,
-    /// Shortest collision-free path from the start to the nearest true object of the class, m.
-    pub shortest_path_length: Option<f64>,
-    /// Success weighted by path length: found × shortest / max(path, shortest).
-    pub spl: f64,
-    /// Plans made.
-    pub plans: usize,
-    /// View-cone POMDP sessions.
-    pub dt_sessions: usize,
-    /// Median planning time, ms.
-    pub plan_ms_median: f64,
-    /// Median time per DT decision, ms.
-    pub dt_ms_median: f64,
-    /// Why the search ended.
-    pub reason: String,
-}
-
-/// Load the environment, knowledge and domain files of a search.
-pub fn load_inputs(
-    env: &Path,
-    knowledge: &Path,
-    domain: &Path,
-) -> anyhow::Result<(World, Knowledge, Domain)> {
-    let world =
-        World::load(env).with_context(|| format!("loading environment {}", env.display()))?;
-    let k: Knowledge = avs_format::load_yaml(knowledge)
-        .with_context(|| format!("loading knowledge {}", knowledge.display()))?;
-    let d = load_domain(domain)?;
-    Ok((world, k, d))
-}
-
-/// Load and check a planning domain file.
-pub fn load_domain(domain: &Path) -> anyhow::Result<Domain> {
-    Domain::load(domain).map_err(|diags| {
-        let msgs: Vec<String> = diags.iter().map(|d| d.to_string()).collect();
-        anyhow!(
-            "domain {} is invalid:\n{}",
-            domain.display(),
-            msgs.join("\n")
-        )
-    })
-}
-
-/// What one search gave: the scored summary, the agent's report, and the robot's trail.
-pub struct SearchOutcome {
-    /// The figures.
-    pub summary: Summary,
-    /// The agent's report (trace, metrics).
-    pub report: SearchReport,
-    /// Every position the robot passed.
-    pub trail: Vec<[f64; 2]>,
-}
-
-/// One search of `goal` in `world` by an agent with `config`, the robot seeded by `seed` with
-/// `faults`; `on_event` sees every trace event as it happens. The result is scored against the
-/// truth.
-#[expect(
-    clippy::too_many_arguments,
-    reason = "one search is the world, the knowledge, the domain, the goal, the seed, the settings, the faults and the sink"
-)]
-pub fn search_world(
-    world: &World,
-    knowledge: &Knowledge,
-    domain: &Domain,
-    goal: &str,
-    seed: u64,
-    config: AgentConfig,
-    faults: &Faults,
-    on_event: &mut dyn FnMut(&Event),
-) -> anyhow::Result<SearchOutcome> {
-    let mut robot = SimAgentRobot::new(world, knowledge.clone(), faults.robot_config(), seed)
-        .context("simulated robot")?;
-    let mut agent = Agent::new(domain.clone(), knowledge.clone(), config)?;
-    let mut sink = |e: &Event| on_event(e);
-    let report = agent.search_with(&mut robot, Goal::find(goal), &mut sink)?;
-    // Scoring against ground truth (the agent never saw it).
-    let reported = report
-        .found
-        .as_ref()
-        .map(|f| [f.pose.x, f.pose.y, f.pose.z]);
-    let path = report.metrics.path_length;
-    let sc = score(world, goal, reported, path);
-    let summary = Summary {
-        found: sc.found,
-        reported_pose: reported,
-        error: sc.error,
-        path_length: path,
-        shortest_path_length: sc.shortest_path_length,
-        spl: sc.spl,
-        plans: report.metrics.plans,
-        dt_sessions: report.metrics.dt_sessions,
-        plan_ms_median: median(&report.metrics.plan_ms),
-        dt_ms_median: median(&report.metrics.dt_ms),
-        reason: report.reason.clone(),
-    };
-    Ok(SearchOutcome {
-        summary,
-        report,
-        trail: robot.trail().to_vec(),
-    })
-}
-
 /// What to search, and how to report it.
 pub struct Request<'a> {
     /// Environment file.
@@ -278,11 +135,18 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
         }
     };
     let (world, k, d) = load_inputs(env, knowledge, domain)?;
-    let config = AgentConfig {
-        strategy: r.strategy,
-        ..AgentConfig::default()
+    let spec = EpisodeSpec {
+        knowledge: &k,
+        domain: &d,
+        goal,
+        seed,
+        config: AgentConfig {
+            strategy: r.strategy,
+            ..AgentConfig::default()
+        },
+        faults: r.faults.clone(),
     };
-    let out = search_world(&world, &k, &d, goal, seed, config, &r.faults, &mut on_event)
+    let out = run_episode(&world, &spec, &mut on_event)
         .with_context(|| format!("searching {}", env.display()))?;
     if let Some(e) = write_err {
         return Err(anyhow!("writing the trace: {e}"));

@@ -1,0 +1,212 @@
+//! The search bench: generated floors (`avs_sim::generate` with seeds S, S+1, …), each with a
+//! target object — the class drawn uniformly from the knowledge's non-landmark classes unless
+//! fixed, placed where the knowledge's rates say, or in the room they make least likely
+//! (`misleading`) — searched by one strategy with the robot seeded by the floor's seed.
+//! Success rate and SPL are over the floors whose target is reachable from the start. Floors
+//! run in parallel (rayon); every figure except the timings is independent of the scheduling.
+
+use crate::episode::{run_episode, EpisodeSpec, Faults, Summary};
+use crate::stats::{mean, median};
+use crate::EvalError;
+use avs_agent::{AgentConfig, Strategy};
+use avs_format::knowledge::Knowledge;
+use avs_plan::domain::Domain;
+use avs_sim::generate::{generate, GenerateParams, Placement};
+use avs_sim::World;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// What to bench.
+#[derive(Debug, Clone)]
+pub struct BenchParams {
+    /// Number of floors.
+    pub floors: usize,
+    /// Seed of the first floor (floor i uses seed S + i for the floor and the robot).
+    pub seed: u64,
+    /// Rooms per floor besides the corridor.
+    pub rooms: usize,
+    /// The strategy searching.
+    pub strategy: Strategy,
+    /// Put each target in the room the knowledge makes least likely.
+    pub misleading: bool,
+    /// Search this class on every floor (default: drawn per floor).
+    pub goal: Option<String>,
+    /// Write each floor's environment to `DIR/floor-SEED.yaml`.
+    pub save_floors: Option<PathBuf>,
+}
+
+/// One floor's run.
+#[derive(Debug, Clone, Serialize)]
+pub struct BenchRun {
+    /// Seed of the floor and the robot.
+    pub seed: u64,
+    /// The target class.
+    pub goal: String,
+    /// Whether some target is reachable from the start.
+    pub reachable: bool,
+    /// The search's summary.
+    #[serde(flatten)]
+    pub summary: Summary,
+    /// Wall time of each plan, ms.
+    #[serde(skip)]
+    pub plan_ms: Vec<f64>,
+}
+
+/// The bench's figures.
+#[derive(Debug, Clone, Serialize)]
+pub struct BenchResult {
+    /// The strategy.
+    pub strategy: Strategy,
+    /// Floors generated.
+    pub floors: usize,
+    /// Floors whose target is reachable.
+    pub reachable: usize,
+    /// Share of reachable floors where the target was found.
+    pub success_rate: f64,
+    /// Mean SPL over the reachable floors.
+    pub spl_mean: f64,
+    /// Mean distance driven over the reachable floors, m.
+    pub path_length_mean: f64,
+    /// Mean number of plans over the reachable floors.
+    pub plans_mean: f64,
+    /// Median planning time over every plan of every run, ms.
+    pub plan_ms_median: f64,
+    /// Seed of the first floor.
+    pub seed: u64,
+    /// Rooms per floor.
+    pub rooms: usize,
+    /// Whether targets were put where the knowledge makes them least likely.
+    pub misleading: bool,
+    /// Every run, by seed.
+    pub runs: Vec<BenchRun>,
+}
+
+/// Floor `seed` with a `goal` object, saved to `save` when given.
+fn floor(
+    k: &Knowledge,
+    seed: u64,
+    p: &BenchParams,
+    goal: &str,
+    save: Option<&Path>,
+) -> Result<World, EvalError> {
+    let failed = |message: String| EvalError::Sim(format!("floor {seed}: {message}"));
+    let env = generate(
+        k,
+        &GenerateParams {
+            seed,
+            rooms: p.rooms,
+            ensure_class: Some(goal.to_string()),
+            placement: if p.misleading {
+                Placement::Unlikely
+            } else {
+                Placement::AsKnowledge
+            },
+        },
+    )
+    .map_err(|e| failed(format!("generating: {e}")))?;
+    if let Some(dir) = save {
+        let path = dir.join(format!("floor-{seed}.yaml"));
+        let yaml = serde_yaml::to_string(&env).map_err(|e| failed(e.to_string()))?;
+        let text = format!(
+            "# Floor {seed} of `avs bench --rooms {}{}`; target {goal}.\n{yaml}",
+            p.rooms,
+            if p.misleading { " --misleading" } else { "" },
+        );
+        std::fs::write(&path, text)
+            .map_err(|e| failed(format!("writing {}: {e}", path.display())))?;
+    }
+    World::new(env, Path::new(".")).map_err(|e| failed(e.to_string()))
+}
+
+/// Run the bench; `tick` is called after each floor.
+pub fn bench(
+    knowledge: &Knowledge,
+    domain: &Domain,
+    p: &BenchParams,
+    tick: &(dyn Fn() + Sync),
+) -> Result<BenchResult, EvalError> {
+    let targets: Vec<&str> = knowledge
+        .object_classes
+        .iter()
+        .filter(|c| !c.landmark)
+        .map(|c| c.name.as_str())
+        .collect();
+    if let Some(g) = &p.goal {
+        if knowledge.class(g).is_none() {
+            return Err(EvalError::Field {
+                file: "bench".into(),
+                field: format!("--goal {g}"),
+                message: format!(
+                    "not an object class of the knowledge file; expected one of {}",
+                    targets.join(", ")
+                ),
+            });
+        }
+    }
+    if p.goal.is_none() && targets.is_empty() {
+        return Err(EvalError::Field {
+            file: "bench".into(),
+            field: "knowledge".into(),
+            message: "the knowledge file has no non-landmark object class to search for".into(),
+        });
+    }
+    let config = AgentConfig {
+        strategy: p.strategy,
+        ..AgentConfig::default()
+    };
+    let mut runs: Vec<BenchRun> = (0..p.floors as u64)
+        .into_par_iter()
+        .map(|i| -> Result<BenchRun, EvalError> {
+            let s = p.seed + i;
+            let g = match &p.goal {
+                Some(g) => g.clone(),
+                None => {
+                    let mut rng = ChaCha8Rng::seed_from_u64(s);
+                    targets[rng.gen_range(0..targets.len())].to_string()
+                }
+            };
+            let world = floor(knowledge, s, p, &g, p.save_floors.as_deref())?;
+            let spec = EpisodeSpec {
+                knowledge,
+                domain,
+                goal: &g,
+                seed: s,
+                config: config.clone(),
+                faults: Faults::default(),
+            };
+            let out = run_episode(&world, &spec, &mut |_| {})
+                .map_err(|e| EvalError::Sim(format!("floor {s}: {e}")))?;
+            tick();
+            Ok(BenchRun {
+                seed: s,
+                goal: g,
+                reachable: out.summary.shortest_path_length.is_some(),
+                summary: out.summary,
+                plan_ms: out.report.metrics.plan_ms,
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    runs.sort_by_key(|r| r.seed);
+    let ok: Vec<&BenchRun> = runs.iter().filter(|r| r.reachable).collect();
+    let plan_ms: Vec<f64> = runs
+        .iter()
+        .flat_map(|r| r.plan_ms.iter().copied())
+        .collect();
+    Ok(BenchResult {
+        strategy: p.strategy,
+        floors: p.floors,
+        reachable: ok.len(),
+        success_rate: mean(&ok, |r| f64::from(u8::from(r.summary.found))),
+        spl_mean: mean(&ok, |r| r.summary.spl),
+        path_length_mean: mean(&ok, |r| r.summary.path_length),
+        plans_mean: mean(&ok, |r| r.summary.plans as f64),
+        plan_ms_median: median(&plan_ms),
+        seed: p.seed,
+        rooms: p.rooms,
+        misleading: p.misleading,
+        runs,
+    })
+}

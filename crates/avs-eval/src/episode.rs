@@ -1,0 +1,186 @@
+//! One scored episode: a world, a simulated robot with faults, an agent, one search, and the
+//! result scored against the ground truth the agent never saw (`avs_sim::score`).
+
+use crate::stats::median;
+use crate::EvalError;
+use avs_agent::{Agent, AgentConfig, Event, Goal, SearchReport};
+use avs_format::knowledge::Knowledge;
+use avs_plan::domain::Domain;
+use avs_sim::robot::DoorEvent;
+use avs_sim::score::score;
+use avs_sim::sim_robot::{SimAgentRobot, SimRobotConfig};
+use avs_sim::World;
+use serde::Serialize;
+use std::path::Path;
+
+/// The simulated robot's fault injection.
+#[derive(Debug, Clone, Default)]
+pub struct Faults {
+    /// Probability that a motion or a view fails.
+    pub failure_rate: f64,
+    /// Multiplier of the false-positive rate.
+    pub fp_scale: Option<f64>,
+    /// Doors closing (or opening) during the run.
+    pub door_events: Vec<DoorEvent>,
+}
+
+impl Faults {
+    /// The simulated robot's settings with these faults.
+    pub fn robot_config(&self) -> SimRobotConfig {
+        let mut c = SimRobotConfig::default();
+        c.failures.motion = self.failure_rate;
+        c.failures.view = self.failure_rate;
+        if let Some(x) = self.fp_scale {
+            c.detector.false_positive_scale = x;
+        }
+        c.door_events = self.door_events.clone();
+        c
+    }
+}
+
+/// The figures of one search.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Summary {
+    /// Whether the agent reported an object of the goal class within 1 m of a true one
+    /// ([`avs_sim::score::SUCCESS_RADIUS`]).
+    pub found: bool,
+    /// The reported position `[x, y, z]`, if any.
+    pub reported_pose: Option<[f64; 3]>,
+    /// Planar distance from the reported position to the nearest true object of the class, m.
+    pub error: Option<f64>,
+    /// Distance driven, m.
+    pub path_length: f64,
+    /// Shortest collision-free path from the start to the nearest true object of the class, m.
+    pub shortest_path_length: Option<f64>,
+    /// Success weighted by path length: found × shortest / max(path, shortest).
+    pub spl: f64,
+    /// Plans made.
+    pub plans: usize,
+    /// View-cone POMDP sessions.
+    pub dt_sessions: usize,
+    /// Median planning time, ms.
+    pub plan_ms_median: f64,
+    /// Median time per DT decision, ms.
+    pub dt_ms_median: f64,
+    /// Why the search ended.
+    pub reason: String,
+}
+
+/// What one episode gave: the scored summary, the agent's report, and the robot's trail.
+#[derive(Debug, Clone)]
+pub struct Episode {
+    /// The figures.
+    pub summary: Summary,
+    /// The agent's report (trace, metrics).
+    pub report: SearchReport,
+    /// Every position the robot passed.
+    pub trail: Vec<[f64; 2]>,
+}
+
+/// Read a knowledge file.
+pub fn load_knowledge(path: &Path) -> Result<Knowledge, EvalError> {
+    avs_format::load_yaml(path).map_err(|e| EvalError::Load {
+        what: "knowledge",
+        file: path.display().to_string(),
+        message: e.to_string(),
+    })
+}
+
+/// Read and check a planning domain file; the message lists every problem.
+pub fn load_domain(path: &Path) -> Result<Domain, EvalError> {
+    Domain::load(path).map_err(|diags| {
+        let msgs: Vec<String> = diags.iter().map(|d| d.to_string()).collect();
+        EvalError::Load {
+            what: "domain",
+            file: path.display().to_string(),
+            message: format!("invalid:\n{}", msgs.join("\n")),
+        }
+    })
+}
+
+/// Read an environment file into a world.
+pub fn load_world(path: &Path) -> Result<World, EvalError> {
+    World::load(path).map_err(|e| EvalError::Load {
+        what: "environment",
+        file: path.display().to_string(),
+        message: e.to_string(),
+    })
+}
+
+/// Read the environment, knowledge and domain files of a search.
+pub fn load_inputs(
+    env: &Path,
+    knowledge: &Path,
+    domain: &Path,
+) -> Result<(World, Knowledge, Domain), EvalError> {
+    Ok((
+        load_world(env)?,
+        load_knowledge(knowledge)?,
+        load_domain(domain)?,
+    ))
+}
+
+/// What an episode searches and how.
+#[derive(Debug, Clone)]
+pub struct EpisodeSpec<'a> {
+    /// The knowledge the agent (and the simulated detector) use.
+    pub knowledge: &'a Knowledge,
+    /// The planning domain.
+    pub domain: &'a Domain,
+    /// The object class searched for.
+    pub goal: &'a str,
+    /// The simulated robot's seed.
+    pub seed: u64,
+    /// The agent's settings.
+    pub config: AgentConfig,
+    /// Fault injection.
+    pub faults: Faults,
+}
+
+/// One search in `world` as `spec` says; `on_event` sees every trace event as it happens. The
+/// result is scored against the truth.
+pub fn run_episode(
+    world: &World,
+    spec: &EpisodeSpec,
+    on_event: &mut dyn FnMut(&Event),
+) -> Result<Episode, EvalError> {
+    let mut robot = SimAgentRobot::new(
+        world,
+        spec.knowledge.clone(),
+        spec.faults.robot_config(),
+        spec.seed,
+    )
+    .map_err(|e| EvalError::Sim(format!("simulated robot: {e}")))?;
+    let mut agent = Agent::new(
+        spec.domain.clone(),
+        spec.knowledge.clone(),
+        spec.config.clone(),
+    )?;
+    let mut sink = |e: &Event| on_event(e);
+    let report = agent.search_with(&mut robot, Goal::find(spec.goal), &mut sink)?;
+    // Scoring against ground truth (the agent never saw it).
+    let reported = report
+        .found
+        .as_ref()
+        .map(|f| [f.pose.x, f.pose.y, f.pose.z]);
+    let path = report.metrics.path_length;
+    let sc = score(world, spec.goal, reported, path);
+    let summary = Summary {
+        found: sc.found,
+        reported_pose: reported,
+        error: sc.error,
+        path_length: path,
+        shortest_path_length: sc.shortest_path_length,
+        spl: sc.spl,
+        plans: report.metrics.plans,
+        dt_sessions: report.metrics.dt_sessions,
+        plan_ms_median: median(&report.metrics.plan_ms),
+        dt_ms_median: median(&report.metrics.dt_ms),
+        reason: report.reason.clone(),
+    };
+    Ok(Episode {
+        summary,
+        report,
+        trail: robot.trail().to_vec(),
+    })
+}

@@ -1,0 +1,35 @@
+//! [`EvalError`]: what stops an episode, a bench or a scenario before it has a result.
+
+use avs_agent::AgentError;
+
+/// Errors of the experiment harness. Messages name the file (and the field, where one is at
+/// fault).
+#[derive(Debug, thiserror::Error)]
+pub enum EvalError {
+    /// A file could not be read, or is invalid.
+    #[error("{what} {file}: {message}")]
+    Load {
+        /// `environment`, `knowledge`, `domain` or `scenario`.
+        what: &'static str,
+        /// The file.
+        file: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A field of a scenario or request names something that is not there.
+    #[error("{file}: {field}: {message}")]
+    Field {
+        /// The file (or the flag's owner).
+        file: String,
+        /// The field.
+        field: String,
+        /// What is wrong and what is expected.
+        message: String,
+    },
+    /// The simulated world or robot refused the setup.
+    #[error("{0}")]
+    Sim(String),
+    /// The agent refused the setup.
+    #[error(transparent)]
+    Agent(#[from] AgentError),
+}

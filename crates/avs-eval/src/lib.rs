@@ -1,0 +1,42 @@
+//! # avs-eval
+//!
+//! Experiments over the avs agent in the simulated world: what the agent may never see (the
+//! ground truth) is read here, and only to score and judge.
+//!
+//! * [`episode`] — one scored episode: a world, a simulated robot with faults, an agent, one
+//!   search, the result scored against the truth (success, error, SPL);
+//! * [`bench`] — the search bench over generated floors (success rate, SPL, path length);
+//! * [`scenario`] — the scenario runner: a scenario file re-enacted (world edits, searches
+//!   before the goal), its expected properties checked and its text trace compared with the
+//!   golden file (the plan-trace suite in `tests/plan_traces/`).
+//!
+//! The `avs` CLI's `run`, `search` and `bench` are thin layers over this crate.
+//!
+//! ```
+//! use avs_eval::episode::{load_inputs, run_episode, EpisodeSpec, Faults};
+//! let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+//! let (world, knowledge, domain) = load_inputs(
+//!     &root.join("domains/environments/office.yaml"),
+//!     &root.join("knowledge/office.yaml"),
+//!     &root.join("domains/object_search.yaml"),
+//! )
+//! .unwrap();
+//! let spec = EpisodeSpec {
+//!     knowledge: &knowledge,
+//!     domain: &domain,
+//!     goal: "cerealbox",
+//!     seed: 1,
+//!     config: avs_agent::AgentConfig::default(),
+//!     faults: Faults::default(),
+//! };
+//! let episode = run_episode(&world, &spec, &mut |_| {}).unwrap();
+//! assert!(episode.summary.found && episode.summary.spl > 0.0);
+//! ```
+
+pub mod bench;
+pub mod episode;
+mod error;
+pub mod scenario;
+pub mod stats;
+
+pub use error::EvalError;

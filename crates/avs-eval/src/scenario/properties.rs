@@ -1,0 +1,298 @@
+//! The properties a scenario expects of its goal's search (`avs_format::scenario::Expect`),
+//! read off the trace: the plans' listing lines (the papers' form), the executed searches, and
+//! the true rooms of the robot's poses and views (the world's ground truth, which only the
+//! judge sees).
+
+use super::ScenarioRun;
+use avs_agent::Event;
+use avs_format::scenario::Scenario;
+use avs_sim::World;
+
+fn plans(trace: &[Event]) -> impl Iterator<Item = &Vec<String>> {
+    trace.iter().filter_map(|e| match e {
+        Event::PlanMade { steps, .. } => Some(steps),
+        _ => None,
+    })
+}
+
+/// The true room of a point, by name.
+pub fn room_name(world: &World, x: f64, y: f64) -> Option<String> {
+    world.room_at(x, y).map(|i| world.env.rooms[i].name.clone())
+}
+
+/// The true rooms along the robot's path (start, every action's end, every look), with
+/// consecutive repeats merged.
+pub fn rooms_along_path(world: &World, trace: &[Event]) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for e in trace {
+        let p = match e {
+            Event::Started { pose, .. } | Event::ActionFinished { pose, .. } => {
+                Some((pose[0], pose[1]))
+            }
+            Event::DtAction { view: Some(v), .. } => Some((v.x, v.y)),
+            _ => None,
+        };
+        if let Some(r) = p.and_then(|(x, y)| room_name(world, x, y)) {
+            if out.last() != Some(&r) {
+                out.push(r);
+            }
+        }
+    }
+    out
+}
+
+/// The true rooms of the processed view cones, in order, consecutive repeats merged.
+pub fn view_rooms(world: &World, trace: &[Event]) -> Vec<String> {
+    trace
+        .iter()
+        .filter_map(|e| match e {
+            Event::DtAction {
+                action,
+                view: Some(v),
+                ..
+            } if action.starts_with("PROCESSVIEWCONE") => Some((v.x, v.y)),
+            _ => None,
+        })
+        .map(|(x, y)| room_name(world, x, y).unwrap_or_else(|| "a doorway".into()))
+        .fold(Vec::new(), |mut v: Vec<String>, r| {
+            if v.last() != Some(&r) {
+                v.push(r);
+            }
+            v
+        })
+}
+
+/// Executed SEARCHFOROBJECT steps as `(searched class, landmark class if ON)`. The landmark's
+/// class comes from the listing of the plan being executed: its ASSUME-OBJECT-EXISTS
+/// `<class> ON <lm> <lm-class> <category>` line, or the `SEARCHFOROBJECT <lm-class> IN <room>
+/// <lm>` step that finds the landmark.
+pub fn searches(trace: &[Event]) -> Vec<(String, Option<String>)> {
+    let mut plan: &[String] = &[];
+    let mut out = Vec::new();
+    for e in trace {
+        match e {
+            Event::PlanMade { steps, .. } => plan = steps,
+            Event::ActionStarted { action } if action.starts_with("SEARCHFOROBJECT ") => {
+                let w: Vec<&str> = action.split_whitespace().collect();
+                let class = w.get(1).map(|s| s.to_string()).unwrap_or_default();
+                let lm_class = if w.get(2) == Some(&"ON") {
+                    let lm = w.get(3).copied().unwrap_or("");
+                    Some(
+                        landmark_class(plan, lm).unwrap_or_else(|| format!("{lm} (class unknown)")),
+                    )
+                } else {
+                    None
+                };
+                out.push((class, lm_class));
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+/// The class of landmark `lm` by the plan's listing lines.
+pub fn landmark_class(plan: &[String], lm: &str) -> Option<String> {
+    plan.iter().find_map(|s| {
+        let w: Vec<&str> = s.split_whitespace().collect();
+        match w.as_slice() {
+            ["ASSUME-OBJECT-EXISTS", _, "ON", l, lc, _] if *l == lm => Some(lc.to_string()),
+            ["SEARCHFOROBJECT", lc, "IN", _, o] if *o == lm => Some(lc.to_string()),
+            _ => None,
+        }
+    })
+}
+
+/// Whether `want` occurs in `got` in order (not necessarily adjacent).
+pub fn is_subsequence(want: &[String], got: &[String]) -> bool {
+    let mut it = got.iter();
+    want.iter().all(|w| it.any(|g| g == w))
+}
+
+/// Every expected property that does not hold, as a message.
+pub fn check_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<String> {
+    let x = &sc.expect;
+    let r = out.main();
+    let t = &r.trace;
+    let mut bad = Vec::new();
+    // In every scenario: a search's result is always filed in the world model, even when the
+    // place map re-drew the searched room meanwhile.
+    for (goal, rep) in &out.reports {
+        for e in &rep.trace {
+            if let Event::PlanMade { reason, .. } = e {
+                if reason.contains("world model refused") {
+                    bad.push(format!("search for {goal}: replanned because {reason}"));
+                }
+            }
+        }
+    }
+    if let Some(want) = x.found {
+        if r.found.is_some() != want {
+            bad.push(format!(
+                "expect.found: {want}, but the search reported {:?} ({})",
+                r.found, r.reason
+            ));
+        }
+    }
+    if let Some(d) = x.found_within_m {
+        match &r.found {
+            None => bad.push(format!(
+                "expect.found_within_m: {d}, but nothing was reported"
+            )),
+            Some(f) => {
+                let best = out
+                    .world
+                    .env
+                    .objects
+                    .iter()
+                    .filter(|o| o.class == sc.goal)
+                    .map(|o| (f.pose.x - o.pose.x).hypot(f.pose.y - o.pose.y))
+                    .fold(f64::INFINITY, f64::min);
+                if best > d {
+                    bad.push(format!(
+                        "expect.found_within_m: {d}, but the reported {} at ({:.2}, {:.2}) is \
+                         {best:.2} m from the nearest true {}",
+                        f.class, f.pose.x, f.pose.y, sc.goal
+                    ));
+                }
+            }
+        }
+    }
+    let first = plans(t).next();
+    if let Some(c) = &x.first_plan_assumes_category {
+        let line = first.and_then(|p| {
+            p.iter().find(|s| {
+                s.starts_with("ASSUME-LEADS-TO-ROOM ") || s.starts_with("ASSUME-CATEGORY ")
+            })
+        });
+        if line.is_none_or(|l| l.split_whitespace().last() != Some(c.as_str())) {
+            bad.push(format!(
+                "expect.first_plan_assumes_category: {c}, but the first plan's room assumption \
+                 is {line:?} (plan {first:?})"
+            ));
+        }
+    }
+    if let Some(want) = x.first_plan_assumes_new_room {
+        let got = first.is_some_and(|p| p.iter().any(|s| s.starts_with("ASSUME-LEADS-TO-ROOM ")));
+        if got != want {
+            bad.push(format!(
+                "expect.first_plan_assumes_new_room: {want}, but the first plan is {first:?}"
+            ));
+        }
+    }
+    if let Some(c) = &x.some_plan_assumes_new_room {
+        let ok = plans(t).flatten().any(|s| {
+            s.starts_with("ASSUME-LEADS-TO-ROOM ")
+                && s.split_whitespace().last() == Some(c.as_str())
+        });
+        if !ok {
+            bad.push(format!(
+                "expect.some_plan_assumes_new_room: {c}, but no plan has an \
+                 `ASSUME-LEADS-TO-ROOM <placeholder> {c}` line"
+            ));
+        }
+    }
+    if let Some(want) = x.assumption_violated {
+        let got = t
+            .iter()
+            .any(|e| matches!(e, Event::AssumptionViolated { .. }));
+        if got != want {
+            bad.push(format!(
+                "expect.assumption_violated: {want}, but the trace has {}",
+                if got {
+                    "a violated assumption"
+                } else {
+                    "no violated assumption"
+                }
+            ));
+        }
+    }
+    if let Some(n) = x.min_plans {
+        if r.metrics.plans < n {
+            bad.push(format!(
+                "expect.min_plans: {n}, but {} plans were made",
+                r.metrics.plans
+            ));
+        }
+    }
+    if let Some(s) = &x.gave_up_reason_contains {
+        let reason = r.gave_up.as_ref().map(|g| g.to_string());
+        if !reason.as_deref().is_some_and(|g| g.contains(s.as_str())) {
+            bad.push(format!(
+                "expect.gave_up_reason_contains: {s:?}, but the search ended with {:?}",
+                r.reason
+            ));
+        }
+    }
+    let done = searches(t);
+    for lc in &x.searched_on {
+        let ok = done
+            .iter()
+            .any(|(c, on)| c == &sc.goal && on.as_deref() == Some(lc.as_str()));
+        if !ok {
+            bad.push(format!(
+                "expect.searched_on: {lc}, but the {} was searched {:?} (class, on)",
+                sc.goal, done
+            ));
+        }
+    }
+    if !x.searched_for.is_empty() {
+        let classes: Vec<String> = done.iter().map(|(c, _)| c.clone()).collect();
+        if !is_subsequence(&x.searched_for, &classes) {
+            bad.push(format!(
+                "expect.searched_for: {:?} in this order, but the searches were for {classes:?}",
+                x.searched_for
+            ));
+        }
+    }
+    let path_rooms = rooms_along_path(&out.world, t);
+    if !x.entered_rooms.is_empty() && !is_subsequence(&x.entered_rooms, &path_rooms) {
+        bad.push(format!(
+            "expect.entered_rooms: {:?} in this order, but the robot went through {path_rooms:?}",
+            x.entered_rooms
+        ));
+    }
+    let views = view_rooms(&out.world, t);
+    if let Some(room) = &x.first_search_in {
+        if views.first() != Some(room) {
+            bad.push(format!(
+                "expect.first_search_in: {room}, but the view cones were processed in {views:?}"
+            ));
+        }
+    }
+    for room in &x.never_searched_in {
+        if views.contains(room) {
+            bad.push(format!(
+                "expect.never_searched_in: {room}, but the view cones were processed in {views:?}"
+            ));
+        }
+    }
+    bad
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn listing_helpers_read_landmark_classes_and_subsequences() {
+        let plan: Vec<String> = [
+            "ASSUME-OBJECT-EXISTS cerealbox ON new-object1 table kitchen",
+            "SEARCHFOROBJECT counter IN room3 new-object4",
+        ]
+        .map(String::from)
+        .to_vec();
+        assert_eq!(
+            landmark_class(&plan, "new-object1").as_deref(),
+            Some("table")
+        );
+        assert_eq!(
+            landmark_class(&plan, "new-object4").as_deref(),
+            Some("counter")
+        );
+        assert_eq!(landmark_class(&plan, "object9"), None);
+        let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+        assert!(is_subsequence(&s(&["a", "c"]), &s(&["a", "b", "c"])));
+        assert!(!is_subsequence(&s(&["c", "a"]), &s(&["a", "b", "c"])));
+    }
+}
