@@ -178,8 +178,7 @@ fn main_loop<R: Robot + ?Sized>(
     goal: &Goal,
 ) -> Result<End, AgentError> {
     let mut reason = ReplanReason::Initial;
-    let p_detect = 1.0 - cx.knowledge.sensor.false_negative;
-    let p_min = cx.tuning().p_min;
+    let (fnr, p_min) = (cx.knowledge.sensor.false_negative, cx.tuning().p_min);
     loop {
         if run.metrics.plans >= cx.config.max_plans {
             let r = GiveUpReason::PlanBudget {
@@ -191,12 +190,7 @@ fn main_loop<R: Robot + ?Sized>(
         let binding = Binding::of(mem, cx.knowledge, &goal.class);
         let t0 = Instant::now();
         let decision = {
-            let f = Probs {
-                binding: &binding,
-                cm: &mem.wm.concepts,
-                p_detect,
-                p_min,
-            };
+            let f = Probs::new(&binding, &mem.wm.concepts, fnr, p_min);
             match planners.planner.plan(&binding.problem, &f) {
                 Err(avs_plan::PlanError::SearchLimit(n)) => {
                     tracing::debug!(expansions = n, "planning again in fast mode");
@@ -223,15 +217,12 @@ fn main_loop<R: Robot + ?Sized>(
             probability: plan.probability,
         });
         reason = ReplanReason::PlanEnded;
-        let accepted = {
-            let f = Probs {
-                binding: &binding,
-                cm: &mem.wm.concepts,
-                p_detect,
-                p_min,
-            };
-            accepted_assumptions(planners.planner, &plan, &binding, &f)
-        };
+        let accepted = accepted_assumptions(
+            planners.planner,
+            &plan,
+            &binding,
+            &Probs::new(&binding, &mem.wm.concepts, fnr, p_min),
+        );
         // Each step read once into a typed action over the binding's values.
         let actions: Vec<Result<Action, ReplanReason>> =
             plan.steps.iter().map(|s| binding.action(s)).collect();
@@ -267,12 +258,7 @@ fn main_loop<R: Robot + ?Sized>(
                 StepEnd::Replan(ReplanReason::ActionFailed(f)) => Outcome::Failed(f.to_string()),
                 _ => Outcome::Ok,
             };
-            run.emit(Event::ActionFinished {
-                action: step.display.clone(),
-                outcome,
-                pose: body.pose3(),
-                path_length: body.odometry(),
-            });
+            run.finished(step.display.clone(), outcome, body.pose3(), body.odometry());
             match end {
                 StepEnd::Found(f) => {
                     run.emit(Event::ActionStarted {
@@ -299,15 +285,8 @@ fn main_loop<R: Robot + ?Sized>(
             look_around_if_new(cx, mem, body, run);
             // Monitor the rest of the plan against the world as now known.
             let now = Binding::of(mem, cx.knowledge, &goal.class);
-            let verdict = {
-                let f = Probs {
-                    binding: &now,
-                    cm: &mem.wm.concepts,
-                    p_detect,
-                    p_min,
-                };
-                planners.planner.monitor(&plan, i + 1, &now.problem, &f)
-            };
+            let f = Probs::new(&now, &mem.wm.concepts, fnr, p_min);
+            let verdict = planners.planner.monitor(&plan, i + 1, &now.problem, &f);
             match verdict {
                 Ok(Verdict::Continue) => i += 1,
                 Ok(Verdict::GoalReached) => {

@@ -3,7 +3,7 @@
 
 use crate::reason::GiveUpReason;
 use crate::report::{FoundObject, Metrics};
-use crate::trace::{Event, TraceSink};
+use crate::trace::{Event, Outcome, TraceSink};
 use std::collections::BTreeSet;
 
 /// The key of a point in the set of covered points: the point on a grid of `res` metres.
@@ -60,6 +60,16 @@ impl<'s> Run<'s> {
         tracing::debug!(event = %e.json_line(), "trace");
         self.sink.event(&e);
         self.events.push(e);
+    }
+
+    /// Emit the end of an action: its outcome, the robot's pose and the odometry.
+    pub fn finished(&mut self, action: String, outcome: Outcome, pose: [f64; 3], path_length: f64) {
+        self.emit(Event::ActionFinished {
+            action,
+            outcome,
+            pose,
+            path_length,
+        });
     }
 
     /// Emit an observation.

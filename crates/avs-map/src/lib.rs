@@ -23,6 +23,7 @@
 //! ```
 pub mod doors;
 pub mod explore;
+pub mod geometry;
 pub mod grid;
 pub mod metrics;
 pub mod nav;

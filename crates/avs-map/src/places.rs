@@ -777,10 +777,7 @@ pub fn point_segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     dist(p, [a[0] + t * dx, a[1] + t * dy])
 }
 
-/// Euclidean distance.
-pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
-}
+pub use crate::geometry::dist;
 
 #[cfg(test)]
 mod tests {

@@ -106,6 +106,29 @@ pub struct LaserModel {
     pub beams: usize,
 }
 
+impl LaserModel {
+    /// The end points of a scan's rays from `pose` (`[x, y, heading]`) on a grid of
+    /// `resolution` metres: spread over the field of view centred on the heading (over the
+    /// full circle without repeating the first ray), spaced no wider than one cell at full
+    /// range whatever `beams` says, so a scan never leaves unrevealed gaps between rays (the
+    /// simulator reveals cells, not returns). The one home of the ray fan.
+    pub fn ray_ends(&self, pose: [f64; 3], resolution: f64) -> impl Iterator<Item = [f64; 2]> {
+        let n = self.beams.max(1);
+        let needed = ((self.fov * self.range / resolution).ceil() as usize).max(n);
+        let full_circle = self.fov >= std::f64::consts::TAU - 1e-9;
+        let (fov, range) = (self.fov, self.range);
+        (0..needed).map(move |i| {
+            let frac = if full_circle || needed == 1 {
+                i as f64 / needed as f64
+            } else {
+                i as f64 / (needed - 1) as f64
+            };
+            let ang = pose[2] - fov / 2.0 + frac * fov;
+            [pose[0] + range * ang.cos(), pose[1] + range * ang.sin()]
+        })
+    }
+}
+
 /// Cast a laser scan from `(x, y, heading)` in the true world `truth` and copy what it sees into
 /// `known`: every cell a ray crosses becomes free until the ray hits an occupied cell, which
 /// becomes occupied. Returns how many cells of `known` changed from unknown. Both grids must share
@@ -117,22 +140,7 @@ pub fn reveal_scan(
     laser: &LaserModel,
 ) -> usize {
     let mut revealed = 0;
-    let n = laser.beams.max(1);
-    // Rays are spaced no wider than one cell at full range, whatever `beams` says, so a scan
-    // never leaves unrevealed gaps between rays (the simulator reveals cells, not returns).
-    let needed = ((laser.fov * laser.range / truth.resolution()).ceil() as usize).max(n);
-    let full_circle = laser.fov >= std::f64::consts::TAU - 1e-9;
-    for i in 0..needed {
-        let frac = if full_circle || needed == 1 {
-            i as f64 / needed as f64
-        } else {
-            i as f64 / (needed - 1) as f64
-        };
-        let ang = pose[2] - laser.fov / 2.0 + frac * laser.fov;
-        let end = [
-            pose[0] + laser.range * ang.cos(),
-            pose[1] + laser.range * ang.sin(),
-        ];
+    for end in laser.ray_ends(pose, truth.resolution()) {
         walk_segment(truth, [pose[0], pose[1]], end, |c, r| {
             if !truth.contains(c, r) {
                 return false;

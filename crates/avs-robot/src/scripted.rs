@@ -134,9 +134,7 @@ impl ScriptedRobot {
         if horiz < 1e-9 {
             return false;
         }
-        let yaw = dy.atan2(dx) - cone.camera_yaw();
-        let yaw =
-            (yaw + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+        let yaw = avs_map::geometry::wrap_angle(dy.atan2(dx) - cone.camera_yaw());
         let el = (p[2] - self.camera.height).atan2(horiz) - cone.tilt;
         yaw.abs() <= 0.5 * self.camera.hfov / cone.zoom
             && el.abs() <= 0.5 * self.camera.vfov / cone.zoom

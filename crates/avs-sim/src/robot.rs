@@ -313,20 +313,7 @@ impl<'w> SimRobot<'w> {
         let (truth, known) = (&self.truth, &mut self.known);
         let mut revealed = 0;
         let mut relabelled = 0;
-        let n = laser.beams.max(1);
-        let needed = ((laser.fov * laser.range / truth.resolution()).ceil() as usize).max(n);
-        let full_circle = laser.fov >= std::f64::consts::TAU - 1e-9;
-        for i in 0..needed {
-            let frac = if full_circle || needed == 1 {
-                i as f64 / needed as f64
-            } else {
-                i as f64 / (needed - 1) as f64
-            };
-            let ang = self.pose[2] - laser.fov / 2.0 + frac * laser.fov;
-            let end = [
-                self.pose[0] + laser.range * ang.cos(),
-                self.pose[1] + laser.range * ang.sin(),
-            ];
+        for end in laser.ray_ends(self.pose, truth.resolution()) {
             walk_segment(truth, [self.pose[0], self.pose[1]], end, |c, r| {
                 if !truth.contains(c, r) {
                     return false;

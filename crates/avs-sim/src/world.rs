@@ -231,17 +231,7 @@ pub struct ViewedObject {
     pub visible: bool,
 }
 
-/// Wrap an angle to (−π, π].
-pub fn wrap_angle(a: f64) -> f64 {
-    let t = std::f64::consts::TAU;
-    let mut x = a % t;
-    if x <= -std::f64::consts::PI {
-        x += t;
-    } else if x > std::f64::consts::PI {
-        x -= t;
-    }
-    x
-}
+pub use avs_map::geometry::wrap_angle;
 
 /// The grid cells of a door's opening: a segment across the direction of passage, `width` long
 /// plus a cell at each end, three cells thick along the passage so 8-connected motion cannot

@@ -23,6 +23,7 @@
 //! doing the rest); the greedy choice then runs over all candidates together.
 
 use crate::error::{Result, ViewError};
+use avs_map::geometry::wrap_angle;
 use std::f64::consts::PI;
 
 /// Camera geometry (angles in radians, lengths in metres).
@@ -94,14 +95,6 @@ fn angle_steps(lo: f64, hi: f64, step: f64) -> Vec<f64> {
     (0..=k)
         .map(|i| lo + (hi - lo) * i as f64 / k as f64)
         .collect()
-}
-
-fn wrap(a: f64) -> f64 {
-    let mut x = (a + PI).rem_euclid(2.0 * PI) - PI;
-    if x < -PI {
-        x += 2.0 * PI;
-    }
-    x
 }
 
 /// Generate view cones covering `points` (world `[x, y, z]`: the location's cells or sample points)
@@ -300,7 +293,7 @@ fn zoom_candidates(
                 let covered: Vec<usize> = visible
                     .iter()
                     .filter(|(_, az, el)| {
-                        wrap(az - yaw).abs() <= hfov / 2.0 + 1e-12
+                        wrap_angle(az - yaw).abs() <= hfov / 2.0 + 1e-12
                             && (el - tilt).abs() <= vfov / 2.0 + 1e-12
                     })
                     .map(|(k, _, _)| *k)

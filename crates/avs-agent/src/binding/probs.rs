@@ -17,6 +17,24 @@ pub(crate) struct Probs<'a> {
     pub p_min: f64,
 }
 
+impl<'a> Probs<'a> {
+    /// The domain's functions over `binding`'s names, from the conceptual map `cm` with the
+    /// knowledge's detector miss rate and the probability floor `p_min`.
+    pub fn new(
+        binding: &'a Binding,
+        cm: &'a ConceptualMap,
+        false_negative: f64,
+        p_min: f64,
+    ) -> Self {
+        Self {
+            binding,
+            cm,
+            p_detect: 1.0 - false_negative,
+            p_min,
+        }
+    }
+}
+
 impl Functions for Probs<'_> {
     fn value(&self, name: &str, args: &[&str]) -> Option<f64> {
         let s = self.binding;

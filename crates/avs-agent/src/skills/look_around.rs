@@ -8,6 +8,7 @@ use crate::body::Body;
 use crate::memory::{Known, Memory};
 use crate::run::Run;
 use crate::AgentError;
+use avs_map::geometry::wrap_angle;
 use avs_robot::{Detection, Robot, ViewCone};
 use std::collections::BTreeMap;
 
@@ -72,9 +73,7 @@ pub(crate) fn look_around<R: Robot + ?Sized>(
     for (d, mut n) in clusters {
         if n < t.look_min_sightings {
             let (dx, dy) = (d.pose.x - pose.x, d.pose.y - pose.y);
-            let pan = (dy.atan2(dx) - pose.yaw + std::f64::consts::PI)
-                .rem_euclid(std::f64::consts::TAU)
-                - std::f64::consts::PI;
+            let pan = wrap_angle(dy.atan2(dx) - pose.yaw);
             let tilt = cam.clamp_tilt((d.pose.z - cam.height).atan2(dx.hypot(dy)));
             let pan = cam.clamp_pan(pan);
             let again = body

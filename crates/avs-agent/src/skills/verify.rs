@@ -7,6 +7,7 @@ use crate::memory::{path_len_on, Memory};
 use crate::run::Run;
 use crate::trace::{Event, View};
 use crate::AgentError;
+use avs_map::geometry::wrap_angle;
 use avs_map::grid::Cell;
 use avs_robot::{Detection, Robot, ViewCone};
 use avs_view::{sight_clear, SightLine};
@@ -100,10 +101,7 @@ pub(crate) fn verify<R: Robot + ?Sized>(
         }
         let pose = body.pose();
         let (dx, dy) = (target[0] - pose.x, target[1] - pose.y);
-        let pan = cam.clamp_pan(
-            (dy.atan2(dx) - pose.yaw + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-                - std::f64::consts::PI,
-        );
+        let pan = cam.clamp_pan(wrap_angle(dy.atan2(dx) - pose.yaw));
         let tilt = cam.clamp_tilt((d.pose.z - cam.height).atan2(dx.hypot(dy)));
         // Zoom in so that the sighting lies in the middle of the recognition range (Sjöö
         // et al., §3.4: the distance interval scales with the zoom).

@@ -94,12 +94,7 @@ pub(crate) fn cover_all<R: Robot + ?Sized>(
                     Err(e) => Outcome::Failed(e.to_string()),
                 };
                 mem.sync()?;
-                run.emit(Event::ActionFinished {
-                    action,
-                    outcome,
-                    pose: body.pose3(),
-                    path_length: body.odometry(),
-                });
+                run.finished(action, outcome, body.pose3(), body.odometry());
                 if look_around {
                     look_around_if_new(cx, mem, body, run);
                 }
@@ -125,12 +120,7 @@ pub(crate) fn cover_all<R: Robot + ?Sized>(
                         Outcome::Failed(e.to_string())
                     }
                 };
-                run.emit(Event::ActionFinished {
-                    action,
-                    outcome,
-                    pose: body.pose3(),
-                    path_length: body.odometry(),
-                });
+                run.finished(action, outcome, body.pose3(), body.odometry());
                 if look_around {
                     look_around_if_new(cx, mem, body, run);
                 }
@@ -385,16 +375,12 @@ fn process_views<R: Robot + ?Sized>(
         if moved.is_ok() {
             run.cover(set.cells[v].iter().map(|&i| set.points[i]));
         }
-        run.emit(Event::ActionFinished {
-            action,
-            outcome: match (&moved, &confirmed) {
-                (Err(e), _) => Outcome::Failed(e.to_string()),
-                (_, Some(_)) => Outcome::DetectedAndConfirmed,
-                _ => Outcome::Ok,
-            },
-            pose: body.pose3(),
-            path_length: body.odometry(),
-        });
+        let outcome = match (&moved, &confirmed) {
+            (Err(e), _) => Outcome::Failed(e.to_string()),
+            (_, Some(_)) => Outcome::DetectedAndConfirmed,
+            _ => Outcome::Ok,
+        };
+        run.finished(action, outcome, body.pose3(), body.odometry());
         if let Some(d) = confirmed {
             let k = mem.objects.len();
             let place = mem
