@@ -4,7 +4,7 @@
 //! another room than the one it came from, else nowhere new.
 
 use super::Ctx;
-use crate::binding::PlaceArg;
+use crate::binding::{names, PlaceArg};
 use crate::body::Body;
 use crate::memory::{Memory, Target};
 use crate::run::Run;
@@ -107,7 +107,11 @@ pub(crate) fn enter<R: Robot + ?Sized>(
         }
         match r {
             Ok(()) => body.turn_around(mem)?,
-            Err(e) => run.observe(format!("exploring room{} from {}: {e}", room.0, ph.name)),
+            Err(e) => run.observe(format!(
+                "exploring {} from {}: {e}",
+                names::room(room),
+                ph.name
+            )),
         }
     }
     let now = mem.current_room();

@@ -4,6 +4,7 @@
 //! category (Aydemir et al. 2011, `002` §III-A, eq. 1, thinned by the look's coverage).
 
 use super::Ctx;
+use crate::binding::names;
 use crate::body::Body;
 use crate::memory::{Known, Memory};
 use crate::run::Run;
@@ -141,8 +142,8 @@ pub(crate) fn look_around<R: Robot + ?Sized>(
         })
         .collect();
     run.observe(format!(
-        "looked around in room{}: {}{}; {}",
-        room.0,
+        "looked around in {}: {}{}; {}",
+        names::room(room),
         if seen.is_empty() {
             "no landmarks".to_string()
         } else {

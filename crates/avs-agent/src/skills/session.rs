@@ -410,7 +410,10 @@ mod tests {
             name: "new-object1".into(),
             assumed: true,
         };
-        let display = format!("SEARCHFOROBJECT cerealbox IN room{} new-object1", room.0);
+        let display = format!(
+            "SEARCHFOROBJECT cerealbox IN {} new-object1",
+            names::room(room)
+        );
         let search = Search {
             label: "cerealbox",
             loc: ConeLoc::Room(room.0),

@@ -277,8 +277,8 @@ fn cover_room<R: Robot + ?Sized>(
             return Ok(None);
         };
         run.observe(format!(
-            "covering room{} with {} view cones for {} of its {} points",
-            room.0,
+            "covering {} with {} view cones for {} of its {} points",
+            names::room(room),
             set.views.len(),
             todo.len(),
             all.len()
@@ -351,7 +351,11 @@ fn process_views<R: Robot + ?Sized>(
         let v = todo.remove(j);
         let view = &set.views[v];
         run.metrics.actions += 1;
-        let action = format!("PROCESSVIEWCONE {label} room{} {}", room.0, view_text(view));
+        let action = format!(
+            "PROCESSVIEWCONE {label} {} {}",
+            names::room(room),
+            view_text(view)
+        );
         run.emit(Event::ActionStarted {
             action: action.clone(),
         });
