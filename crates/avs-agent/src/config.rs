@@ -49,7 +49,7 @@ pub struct AgentConfig {
     /// When the switching planner would give up (the most promising plan below
     /// `planner.min_success`, or `max_plans` spent), first cover what its searches have not
     /// looked at, nearest room first, exploring the placeholders left, as the uninformed
-    /// strategy does ([`crate::strategy`]); give up only when nothing is left. The
+    /// strategy does (module `strategy`); give up only when nothing is left. The
     /// probabilities then only order the search: knowledge that puts the target in the wrong
     /// room costs path, not the target. `false` gives up at once, as the paper's planner does
     /// (`002` §III).
@@ -59,7 +59,7 @@ pub struct AgentConfig {
 }
 
 /// How the agent decides where to go and look: the switching planner, or one of the two
-/// baselines the benchmark compares it with (see [`crate::strategy`]).
+/// baselines the benchmark compares it with (module `strategy` of this crate).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Strategy {

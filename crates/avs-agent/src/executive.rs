@@ -2,7 +2,7 @@
 //! keeps the memory current from the body's feedback, asks the assumptive continual planner
 //! for a plan, runs it step by step through the skills, monitors the rest of the plan after
 //! every step and replans with the reason, and, when no plan clears the success threshold,
-//! hands over to the coverage ([`crate::strategy`]) before it gives up.
+//! hands over to the coverage (module `strategy`) before it gives up.
 
 use crate::binding::{check_domain, Action, Binding, PlaceArg, Probs};
 use crate::body::Body;

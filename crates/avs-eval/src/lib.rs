@@ -5,7 +5,7 @@
 //!
 //! * [`episode`] — one scored episode: a world, a simulated robot with faults, an agent, one
 //!   search, the result scored against the truth (success, error, SPL);
-//! * [`bench`] — the search bench over generated floors (success rate, SPL, path length);
+//! * [`bench`](mod@bench) — the search bench over generated floors (success rate, SPL, path length);
 //! * [`scenario`] — the scenario runner: a scenario file re-enacted (world edits, searches
 //!   before the goal), its expected properties checked and its text trace compared with the
 //!   golden file (the plan-trace suite in `tests/plan_traces/`).
