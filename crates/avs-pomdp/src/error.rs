@@ -37,6 +37,17 @@ pub enum PomdpError {
     /// An action, observation or belief given to a solver or session does not fit the model.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),
+    /// A solve ended with bounds that cannot be right (not finite, or the lower above the upper):
+    /// the model's numbers are beyond what f64 arithmetic carries (e.g. rewards near 1e300).
+    #[error("the solve produced invalid bounds (lower {lower}, upper {upper}): {reason}")]
+    Numerical {
+        /// The lower bound at the initial belief.
+        lower: f64,
+        /// The upper bound at the initial belief.
+        upper: f64,
+        /// What is wrong with them.
+        reason: &'static str,
+    },
     /// The closed-loop session already ended with an outcome.
     #[error("the view-cone session has already ended")]
     SessionEnded,

@@ -342,10 +342,18 @@ impl Pomdp {
         for &(s, p) in b {
             reward += p * r[s];
             for &(s2, t) in self.successors(s, a) {
+                // A contribution that underflows to zero is dropped: `scratch[s2] == 0.0` is the
+                // "not yet touched" mark, and adding a zero would leave it set, so `s2` would be
+                // pushed twice and appear twice in every posterior (doubling its mass there and
+                // breaking the sawtooth ratio, which assumes one entry per state).
+                let w = p * t;
+                if w == 0.0 {
+                    continue;
+                }
                 if scratch[s2] == 0.0 {
                     touched.push(s2);
                 }
-                scratch[s2] += p * t;
+                scratch[s2] += w;
             }
         }
         touched.sort_unstable();
@@ -363,6 +371,9 @@ impl Pomdp {
             }
             if norm > 0.0 {
                 post.iter_mut().for_each(|(_, v)| *v /= norm);
+                // Entries that underflow in the normalisation leave the support (a zero entry
+                // would give the sawtooth an infinite inverse).
+                post.retain(|(_, v)| *v > 0.0);
             } else {
                 post.clear();
             }
@@ -394,4 +405,42 @@ fn normalise_row(row: &mut [f64]) -> std::result::Result<(), String> {
     }
     row.iter_mut().for_each(|p| *p = p.max(0.0) / sum);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn two_state(discount: f64) -> Pomdp {
+        // One action that keeps the state with probability 1/2 and one observation.
+        Pomdp::new(PomdpTables {
+            states: vec!["a".into(), "b".into()],
+            actions: vec!["stay".into()],
+            observations: vec!["z".into()],
+            discount,
+            transitions: vec![0.5, 0.5, 0.5, 0.5],
+            observation_probs: vec![1.0, 1.0],
+            rewards: vec![0.0, 0.0],
+            initial: vec![0.5, 0.5],
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn a_posterior_lists_each_state_once_when_a_contribution_underflows() {
+        let m = two_state(0.9);
+        // 5e-324 · 0.5 rounds to zero: the smallest subnormal's contribution vanishes.
+        let b = vec![(0, 5e-324), (1, 1.0)];
+        let mut scratch = vec![0.0; 2];
+        let mut touched = Vec::new();
+        let (_, succ) = m.expand(&b, 0, &mut scratch, &mut touched);
+        let (p, post) = &succ[0];
+        assert!((p - 1.0).abs() < 1e-12);
+        assert_eq!(post.iter().map(|(s, _)| *s).collect::<Vec<_>>(), [0, 1]);
+        assert!(
+            post.iter().all(|(_, q)| (q - 0.5).abs() < 1e-12),
+            "{post:?}"
+        );
+        assert!(scratch.iter().all(|x| *x == 0.0), "scratch left zeroed");
+    }
 }

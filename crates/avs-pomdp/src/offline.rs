@@ -222,6 +222,22 @@ pub fn solve_from(
         upper_points = bounds.n_upper_points(),
         "HSVI finished"
     );
+    // Both bounds are valid by construction; what breaks them is arithmetic that f64 cannot carry.
+    // Say so instead of printing them (the tolerance allows the rounding of a converged solve).
+    if !(lower.is_finite() && upper.is_finite()) {
+        return Err(PomdpError::Numerical {
+            lower,
+            upper,
+            reason: "a bound is not finite",
+        });
+    }
+    if lower > upper + 1e-9 * upper.abs().max(1.0) {
+        return Err(PomdpError::Numerical {
+            lower,
+            upper,
+            reason: "the lower bound is above the upper",
+        });
+    }
     Ok(OfflineSolution {
         bounds,
         lower,
