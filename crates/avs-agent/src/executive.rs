@@ -500,4 +500,48 @@ mod tests {
             report.reason
         );
     }
+
+    #[test]
+    fn a_search_that_made_no_progress_is_not_planned_again_in_the_same_map() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../domains/object_search.yaml"
+        );
+        let domain = Domain::load(std::path::Path::new(path)).unwrap();
+        // A detector that sees cereal boxes only from 5-6 cm: no pose in the room gives a view
+        // cone that covers any point, so every search of the room looks at nothing.
+        let mut k = testing::knowledge();
+        let c = k
+            .object_classes
+            .iter_mut()
+            .find(|c| c.name == "cerealbox")
+            .unwrap();
+        c.detection_range = [0.05, 0.06];
+        let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
+        let mut agent = Agent::new(domain, k, AgentConfig::default()).unwrap();
+        let report = agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
+        let text = crate::trace::render_text(&report.trace);
+        assert!(text.contains("made no progress"), "{text}");
+        let plans: Vec<(&str, &Vec<String>)> = report
+            .trace
+            .iter()
+            .filter_map(|e| match e {
+                Event::PlanMade { reason, steps, .. } => Some((reason.as_str(), steps)),
+                _ => None,
+            })
+            .collect();
+        for w in plans.windows(2) {
+            if w[1].0.contains("made no progress") {
+                assert_ne!(
+                    w[0].1, w[1].1,
+                    "the same plan again after no progress:\n{text}"
+                );
+            }
+        }
+        assert!(
+            !matches!(report.gave_up, Some(GiveUpReason::PlanBudget { .. })),
+            "{text}"
+        );
+        assert!(report.found.is_none());
+    }
 }

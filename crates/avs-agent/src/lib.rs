@@ -84,7 +84,12 @@
 //! * **Probabilities** come from the conceptual map: P_category(placeholder) for
 //!   `p-leads-to-room`, the room posterior for `p-category`, P(n ≥ 1) = 1 − e^{−λ} per category
 //!   for `p-object-in`/`p-object-on` (Aydemir et al. 2011, §III-A, eq. 1–2; rates thinned by
-//!   failed searches), 1 − false-negative rate for `p-detect`. A landmark searched in vain for
+//!   failed searches), 1 − false-negative rate for `p-detect` and `p-detect-in`. A search of a
+//!   room that made no progress — no view cone saw any of its points, so nothing was learnt and
+//!   the belief is unchanged — is a monitored failure ([`ReplanReason::NoProgress`]): its cones
+//!   are dropped and `p-detect-in` of that class and room is 0 until the room's known map grows
+//!   (more known cells can give cones that see something), so the next plan differs instead of
+//!   repeating the same search until the plan budget runs out. A landmark searched in vain for
 //!   the goal class is left out of later problems (the domain's `p-object-on` names classes, not
 //!   instances). Only the goal's class and the landmark classes it lies on (transitively, with a
 //!   positive `on` rate in some category) may be assumed to exist; the others get probability 0

@@ -122,6 +122,17 @@ pub enum ReplanReason {
         /// P(ObjectAt L) after.
         after: f64,
     },
+    /// A search made no progress: it looked at none of the location's points (no view cones, or
+    /// none that sees a point), so the belief is unchanged. The search is not planned again
+    /// until the location's known map grows.
+    NoProgress {
+        /// The class.
+        class: String,
+        /// The SEARCHFOROBJECT listing line.
+        search: String,
+        /// How many view cones there were.
+        cones: usize,
+    },
     /// The robot stands on no place of the map.
     OnNoPlace,
     /// The plan searches on an object that is not a landmark.
@@ -168,6 +179,14 @@ impl fmt::Display for ReplanReason {
             } => write!(
                 f,
                 "no {class} found by {search}; P(ObjectAt) {before:.3} -> {after:.3}"
+            ),
+            Self::NoProgress {
+                class,
+                search,
+                cones,
+            } => write!(
+                f,
+                "{search} made no progress: its {cones} view cones see none of the points where a {class} could be; not searched again until more of the room is known"
             ),
             Self::OnNoPlace => f.write_str("the robot is on no place"),
             Self::NotALandmark { object } => write!(f, "{object} is not a landmark"),

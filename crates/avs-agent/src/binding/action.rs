@@ -66,13 +66,14 @@ const OPERATORS: [(&str, usize); 8] = [
 ];
 
 /// The functions the agent supplies to the planner ([`super::Probs`]), with their arities.
-const FUNCTIONS: [(&str, usize); 6] = [
+const FUNCTIONS: [(&str, usize); 7] = [
     ("distance", 2),
     ("p-leads-to-room", 2),
     ("p-category", 2),
     ("p-object-in", 3),
     ("p-object-on", 3),
     ("p-detect", 1),
+    ("p-detect-in", 2),
 ];
 
 /// The state variables the binding sets, with their parameter counts.

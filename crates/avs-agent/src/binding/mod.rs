@@ -77,6 +77,9 @@ pub(crate) struct Binding {
     /// it (or another such class) may lie on. Assuming any other object exists cannot help a
     /// plan, so those assumptions get probability 0 and are not grounded.
     pub relevant: BTreeSet<String>,
+    /// (label, room name): rooms where a search for the label made no progress and whose
+    /// known map has not grown since; a search there would make none either.
+    pub stalled: BTreeSet<(String, String)>,
 }
 
 /// The goal's class and, transitively, the landmark classes an object of a relevant class lies
@@ -229,6 +232,12 @@ impl Binding {
                     .map_or("none".to_string(), names::object);
             p = p.init(&format!("located-on({name}) = {on}"));
             s.objects.insert(name, k);
+        }
+        for ((l, r), known) in &mem.stalled {
+            let name = names::room(RoomId(*r));
+            if s.rooms.contains_key(&name) && mem.room_known_cells(*r) <= *known {
+                s.stalled.insert((l.clone(), name));
+            }
         }
         for (l, loc) in mem.cones.keys() {
             match *loc {

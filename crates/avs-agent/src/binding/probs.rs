@@ -69,6 +69,10 @@ impl Functions for Probs<'_> {
                 exists(*r.get(k)?)
             }
             ("p-detect", [_]) => self.p_detect,
+            // A search that made no progress here (no cone saw a point of the room) would
+            // make none again until the room's known map grows: it cannot succeed.
+            ("p-detect-in", [l, r]) if s.stalled.contains(&(l.to_string(), r.to_string())) => 0.0,
+            ("p-detect-in", [_, _]) => self.p_detect,
             _ => return None,
         };
         Some(if p == 0.0 {

@@ -93,6 +93,10 @@ pub(crate) struct Memory {
     pub cones: BTreeMap<(String, ConeLoc), ConeSet>,
     /// (object, class): searched on without success.
     pub exhausted: BTreeSet<(usize, String)>,
+    /// (class, room) → the room's known cells when a search there for the class made no
+    /// progress (no view cone saw any of its points). The search is not planned again until
+    /// the room's known map grows ([`crate::binding::Binding`]'s `stalled`).
+    pub stalled: BTreeMap<(String, u64), usize>,
     /// Places that proved unreachable.
     pub blocked: BTreeSet<NodeIndex>,
     /// The placeholders offered to the planner: registry index and what it is.
@@ -181,6 +185,7 @@ impl Memory {
             looked: BTreeSet::new(),
             cones: BTreeMap::new(),
             exhausted: BTreeSet::new(),
+            stalled: BTreeMap::new(),
             blocked: BTreeSet::new(),
             phs: Vec::new(),
             extra_ids: Vec::new(),
@@ -238,6 +243,14 @@ impl Memory {
             };
         }
         self.nearest_room_place(p).and_then(|n| self.wm.room_of(n))
+    }
+
+    /// Number of known cells of the grid in room `r` as of the last sync.
+    pub fn room_known_cells(&self, r: u64) -> usize {
+        self.cell_rooms
+            .iter()
+            .filter(|c| **c == Some(r as usize))
+            .count()
     }
 
     /// The place an object at `p` is filed under: the nearest place of the room it lies in.

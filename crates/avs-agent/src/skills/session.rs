@@ -331,6 +331,18 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
             };
             if q > 0.0 {
                 mem.wm.concepts.mark_searched(location, label, q)?;
+            } else if let Location::Room(RoomId(r)) = location {
+                // Nothing was looked at, so nothing was learnt: a monitored failure. The same
+                // search would do the same until the room's known map grows; its cones are
+                // dropped so that a later search plans them on the grown map.
+                mem.cones.remove(&(label.to_string(), loc));
+                mem.stalled
+                    .insert((label.to_string(), r), mem.room_known_cells(r));
+                return Ok(StepEnd::Replan(ReplanReason::NoProgress {
+                    class: label.to_string(),
+                    search: display.to_string(),
+                    cones: set.views.len(),
+                }));
             }
             if let ConeLoc::On(k) = loc {
                 mem.exhausted.insert((k, label.to_string()));

@@ -146,7 +146,7 @@ pub fn stand_in(name: &str, args: &[&str], xy: &HashMap<String, (f64, f64)>) -> 
             ("mug", "table", _) => 0.4,
             _ => 0.02,
         },
-        ("p-detect", [_]) => 0.8,
+        ("p-detect", [_]) | ("p-detect-in", [_, _]) => 0.8,
         _ => return None,
     })
 }
