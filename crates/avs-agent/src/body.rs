@@ -5,6 +5,7 @@
 
 use crate::memory::Memory;
 use crate::reason::MoveFailure;
+use crate::report::{Activity, PathBreakdown};
 use crate::AgentError;
 use avs_map::nav::shortest_path;
 use avs_map::places::dist;
@@ -13,12 +14,38 @@ use avs_robot::{ActionResult, Camera, Pose2D, Robot, ViewCone, ViewReport};
 /// The robot as the agent drives it.
 pub(crate) struct Body<'r, R: Robot + ?Sized> {
     robot: &'r mut R,
+    /// What the motions are for now.
+    activity: Activity,
+    /// Metres driven per activity.
+    path: PathBreakdown,
 }
 
 impl<'r, R: Robot + ?Sized> Body<'r, R> {
     /// The body of `robot`.
     pub fn new(robot: &'r mut R) -> Self {
-        Self { robot }
+        Self {
+            robot,
+            activity: Activity::default(),
+            path: PathBreakdown::default(),
+        }
+    }
+
+    /// Account the motions from now on to `activity`; returns the one before, to restore.
+    pub fn set_activity(&mut self, activity: Activity) -> Activity {
+        std::mem::replace(&mut self.activity, activity)
+    }
+
+    /// Metres driven so far through this body, per activity.
+    pub fn path_by_activity(&self) -> PathBreakdown {
+        self.path
+    }
+
+    /// Book the odometry since `before` to the current activity.
+    fn book(&mut self, before: f64) {
+        let moved = self.robot.odometry() - before;
+        if moved > 0.0 {
+            self.path.add(self.activity, moved);
+        }
     }
 
     /// The robot's pose estimate.
@@ -61,17 +88,22 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
     /// Point the camera along `cone` (moving to its pose first if needed) and run the detector
     /// for `classes`.
     pub fn look(&mut self, cone: &ViewCone, classes: &[String]) -> ActionResult<ViewReport> {
-        self.robot.process_view_cone(cone, classes)
+        let before = self.robot.odometry();
+        let r = self.robot.process_view_cone(cone, classes);
+        self.book(before);
+        r
     }
 
     /// The first survey of a new memory: turn in place so the laser sees all around, drop the
     /// first place and sync.
     pub fn survey(&mut self, mem: &mut Memory) -> Result<(), AgentError> {
         let p = self.robot.pose();
+        let before = self.robot.odometry();
         let _ = self
             .robot
             .move_to(Pose2D::new(p.x, p.y, p.yaw + std::f64::consts::PI));
         let _ = self.robot.move_to(p);
+        self.book(before);
         let grid = self.robot.map_update().grid;
         mem.wm.places.robot_moved(&grid, [p.x, p.y], [p.x, p.y]);
         mem.grid = grid;
@@ -81,10 +113,12 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
     /// Turn in place so that the laser sees all around, and update the maps.
     pub fn turn_around(&mut self, mem: &mut Memory) -> Result<(), AgentError> {
         let here = self.robot.pose();
+        let before = self.robot.odometry();
         let _ = self
             .robot
             .move_to(Pose2D::new(here.x, here.y, here.yaw + std::f64::consts::PI));
         let _ = self.robot.move_to(here);
+        self.book(before);
         let grid = self.robot.map_update().grid;
         mem.wm.places.update(&grid);
         mem.grid = grid;
@@ -123,6 +157,7 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
             let yaw = (w[1] - prev[1]).atan2(w[0] - prev[0]);
             let odo = self.robot.odometry();
             let r = self.robot.move_to(Pose2D::new(w[0], w[1], yaw));
+            self.book(odo);
             let detour = self.robot.odometry() - odo > detour_factor * dist(prev, w) + 1.0;
             let now = self.robot.pose();
             let grid = self.robot.map_update().grid;

@@ -151,6 +151,7 @@ impl Agent {
             }
         };
         run.metrics.path_length = body.odometry() - start_odo;
+        run.metrics.path_by_activity = body.path_by_activity();
         Ok(SearchReport {
             found,
             reason,
@@ -494,6 +495,10 @@ mod tests {
         let f = report.found.unwrap_or_else(|| panic!("{text}"));
         assert!(f.pose.planar_distance(3.6, 2.8) < 1e-9, "{text}");
         assert!(report.gave_up.is_none());
+        // Every metre driven is booked to one activity; the robot drove to view cones.
+        let (by, total) = (report.metrics.path_by_activity, report.metrics.path_length);
+        assert!((by.total() - total).abs() < 1e-9, "{by:?} vs {total}");
+        assert!(by.view_cones > 0.0 && by.coverage == 0.0, "{by:?}");
         assert!(
             report.reason.starts_with("found cerealbox"),
             "{}",

@@ -246,7 +246,7 @@ pub use config::{AgentConfig, Strategy, Tuning};
 pub use error::AgentError;
 pub use executive::Agent;
 pub use reason::{GiveUpReason, MoveFailure, ReplanReason};
-pub use report::{FoundObject, Goal, Metrics, SearchReport};
+pub use report::{Activity, FoundObject, Goal, Metrics, PathBreakdown, SearchReport};
 pub use trace::{Event, Outcome, SessionOutcome, TraceSink, View};
 
 /// The robot boundary (trait, plain data, scripted double), re-exported.

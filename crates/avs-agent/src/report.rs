@@ -35,11 +35,60 @@ pub struct FoundObject {
     pub confidence: f64,
 }
 
+/// What the robot was doing while it drove: each metre of odometry goes to the activity of the
+/// motion that drove it (the body is the only caller of motion and keeps the account).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Activity {
+    /// The plan's own motions: MOVE to a place, ENTER and EXPLORE a placeholder, looking around.
+    #[default]
+    Exploration,
+    /// Inside a SEARCHFOROBJECT session: to the view cones' poses.
+    ViewCones,
+    /// A closer look at a sighting before it is reported.
+    Verification,
+    /// The coverage: after the planner gave up, or the baseline strategies.
+    Coverage,
+}
+
+/// Metres driven per [`Activity`]; they add up to the search's path length.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct PathBreakdown {
+    /// The plan's motions between places, into and beyond placeholders.
+    pub exploration: f64,
+    /// Travel to view cones within searches.
+    pub view_cones: f64,
+    /// Detours to verify sightings.
+    pub verification: f64,
+    /// Coverage after the planner gave up (or a baseline strategy's whole path).
+    pub coverage: f64,
+}
+
+impl PathBreakdown {
+    /// Add `metres` to `activity`.
+    pub fn add(&mut self, activity: Activity, metres: f64) {
+        let slot = match activity {
+            Activity::Exploration => &mut self.exploration,
+            Activity::ViewCones => &mut self.view_cones,
+            Activity::Verification => &mut self.verification,
+            Activity::Coverage => &mut self.coverage,
+        };
+        *slot += metres;
+    }
+
+    /// The sum over the activities, metres.
+    pub fn total(&self) -> f64 {
+        self.exploration + self.view_cones + self.verification + self.coverage
+    }
+}
+
 /// Figures of one search.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct Metrics {
     /// Odometry during this search, metres.
     pub path_length: f64,
+    /// `path_length` by what the robot was doing.
+    pub path_by_activity: PathBreakdown,
     /// Plans made.
     pub plans: usize,
     /// DT (view-cone POMDP) sessions run.

@@ -57,6 +57,10 @@ fn bench_json_has_the_contract_keys_and_the_same_seed_gives_the_same_figures() {
         "path_length_mean",
         "plans_mean",
         "plan_ms_median",
+        "soft_spl_mean",
+        "wrong_reports",
+        "path_by_activity_mean",
+        "room_revisits_mean",
         "runs",
     ] {
         assert!(a.get(key).is_some(), "missing `{key}` in {a:#}");
@@ -73,6 +77,23 @@ fn bench_json_has_the_contract_keys_and_the_same_seed_gives_the_same_figures() {
         reachable.len()
     );
     for r in runs {
+        // The path's breakdown adds up to it; a wrong report is a report that is not a find.
+        let by = &r["path_by_activity"];
+        let total: f64 = ["exploration", "view_cones", "verification", "coverage"]
+            .iter()
+            .map(|k| by[*k].as_f64().unwrap())
+            .sum();
+        let path = r["path_length"].as_f64().unwrap();
+        assert!((total - path).abs() < 1e-6, "{r:#}");
+        let reported = !r["reported_pose"].is_null();
+        assert_eq!(
+            r["wrong_report"] == true,
+            reported && r["found"] != true,
+            "{r:#}"
+        );
+        let soft = r["soft_spl"].as_f64().unwrap();
+        assert!((0.0..=1.0).contains(&soft), "{r:#}");
+        assert!(r["room_revisits"].as_u64().is_some(), "{r:#}");
         let spl = r["spl"].as_f64().unwrap();
         assert!((0.0..=1.0).contains(&spl), "{r:#}");
         if r["found"] != true {

@@ -8,7 +8,7 @@
 use crate::episode::{run_episode, EpisodeSpec, Faults, Summary};
 use crate::stats::{mean, median};
 use crate::EvalError;
-use avs_agent::{AgentConfig, Strategy};
+use avs_agent::{AgentConfig, PathBreakdown, Strategy};
 use avs_format::knowledge::Knowledge;
 use avs_plan::domain::Domain;
 use avs_sim::generate::{generate, GenerateParams, Placement};
@@ -68,8 +68,16 @@ pub struct BenchResult {
     pub success_rate: f64,
     /// Mean SPL over the reachable floors.
     pub spl_mean: f64,
+    /// Mean SoftSPL over the reachable floors (habitat's convention, see [`Summary`]).
+    pub soft_spl_mean: f64,
+    /// Runs (reachable or not) that reported an object more than 1 m from every true one.
+    pub wrong_reports: usize,
     /// Mean distance driven over the reachable floors, m.
     pub path_length_mean: f64,
+    /// Mean metres per activity over the reachable floors.
+    pub path_by_activity_mean: PathBreakdown,
+    /// Mean number of entries into a room already left before, over the reachable floors.
+    pub room_revisits_mean: f64,
     /// Mean number of plans over the reachable floors.
     pub plans_mean: f64,
     /// Median planning time over every plan of every run, ms.
@@ -201,7 +209,16 @@ pub fn bench(
         reachable: ok.len(),
         success_rate: mean(&ok, |r| f64::from(u8::from(r.summary.found))),
         spl_mean: mean(&ok, |r| r.summary.spl),
+        soft_spl_mean: mean(&ok, |r| r.summary.soft_spl),
+        wrong_reports: runs.iter().filter(|r| r.summary.wrong_report).count(),
         path_length_mean: mean(&ok, |r| r.summary.path_length),
+        path_by_activity_mean: PathBreakdown {
+            exploration: mean(&ok, |r| r.summary.path_by_activity.exploration),
+            view_cones: mean(&ok, |r| r.summary.path_by_activity.view_cones),
+            verification: mean(&ok, |r| r.summary.path_by_activity.verification),
+            coverage: mean(&ok, |r| r.summary.path_by_activity.coverage),
+        },
+        room_revisits_mean: mean(&ok, |r| r.summary.room_revisits as f64),
         plans_mean: mean(&ok, |r| r.summary.plans as f64),
         plan_ms_median: median(&plan_ms),
         seed: p.seed,

@@ -3,11 +3,11 @@
 
 use crate::stats::median;
 use crate::EvalError;
-use avs_agent::{Agent, AgentConfig, Event, Goal, SearchReport};
+use avs_agent::{Agent, AgentConfig, Event, Goal, PathBreakdown, SearchReport};
 use avs_format::knowledge::Knowledge;
 use avs_plan::domain::Domain;
 use avs_sim::robot::DoorEvent;
-use avs_sim::score::score;
+use avs_sim::score::{geodesic_to_class, score};
 use avs_sim::sim_robot::{SimAgentRobot, SimRobotConfig};
 use avs_sim::World;
 use serde::Serialize;
@@ -54,6 +54,22 @@ pub struct Summary {
     pub shortest_path_length: Option<f64>,
     /// Success weighted by path length: found × shortest / max(path, shortest).
     pub spl: f64,
+    /// Reported, but more than 1 m from every true object of the class.
+    pub wrong_report: bool,
+    /// Geodesic distance from where the robot ended to the nearest true object of the class, m
+    /// (habitat's DistanceToGoal at the episode's end; `None` when none is reachable).
+    pub distance_to_goal: Option<f64>,
+    /// Habitat's SoftSPL: `max(0, 1 − d_end/d_start) × d_start / max(path, d_start)` with the
+    /// geodesic distances to the goal at the start and the end; credit for getting closer even
+    /// without a report.
+    pub soft_spl: f64,
+    /// `path_length` by what the robot was doing (exploration, view cones, verification,
+    /// coverage after the planner gave up).
+    pub path_by_activity: PathBreakdown,
+    /// True rooms the robot was in.
+    pub rooms_visited: usize,
+    /// Entries into a true room the robot had been in and left before.
+    pub room_revisits: usize,
     /// Plans made.
     pub plans: usize,
     /// View-cone POMDP sessions.
@@ -165,6 +181,13 @@ pub fn run_episode(
         .map(|f| [f.pose.x, f.pose.y, f.pose.z]);
     let path = report.metrics.path_length;
     let sc = score(world, spec.goal, reported, path);
+    let trail = robot.trail().to_vec();
+    let end = trail.last().copied().unwrap_or_else(|| {
+        let s = &world.env.robot.start;
+        [s.x, s.y]
+    });
+    let distance_to_goal = geodesic_to_class(world, spec.goal, end);
+    let (rooms_visited, room_revisits) = room_visits(world, &trail);
     let summary = Summary {
         found: sc.found,
         reported_pose: reported,
@@ -172,6 +195,12 @@ pub fn run_episode(
         path_length: path,
         shortest_path_length: sc.shortest_path_length,
         spl: sc.spl,
+        wrong_report: reported.is_some() && !sc.found,
+        distance_to_goal,
+        soft_spl: soft_spl(sc.shortest_path_length, distance_to_goal, path),
+        path_by_activity: report.metrics.path_by_activity,
+        rooms_visited,
+        room_revisits,
         plans: report.metrics.plans,
         dt_sessions: report.metrics.dt_sessions,
         plan_ms_median: median(&report.metrics.plan_ms),
@@ -181,6 +210,74 @@ pub fn run_episode(
     Ok(Episode {
         summary,
         report,
-        trail: robot.trail().to_vec(),
+        trail,
     })
+}
+
+/// Habitat's SoftSPL from the geodesic distances to the goal at the start and at the end and
+/// the path driven; 0 when no goal is reachable.
+pub fn soft_spl(start: Option<f64>, end: Option<f64>, path: f64) -> f64 {
+    match (start, end) {
+        (Some(d0), Some(d_end)) if d0 > 0.0 => (1.0 - d_end / d0).max(0.0) * d0 / d0.max(path),
+        (Some(_), Some(_)) => 1.0,
+        _ => 0.0,
+    }
+}
+
+/// The true rooms along `trail` (positions in no room, such as door cells, are skipped): how
+/// many rooms were visited and how many times the robot came back into a room it had left.
+pub fn room_visits(world: &World, trail: &[[f64; 2]]) -> (usize, usize) {
+    let mut seen = std::collections::BTreeSet::new();
+    let mut current = None;
+    let mut revisits = 0;
+    for r in trail.iter().filter_map(|p| world.room_at(p[0], p[1])) {
+        if current != Some(r) {
+            if !seen.insert(r) {
+                revisits += 1;
+            }
+            current = Some(r);
+        }
+    }
+    (seen.len(), revisits)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn soft_spl_credits_getting_closer_and_charges_the_detour() {
+        // Halfway to the goal along a path as long as the start distance: 0.5.
+        assert!((soft_spl(Some(10.0), Some(5.0), 10.0) - 0.5).abs() < 1e-12);
+        // The same end after twice the path: half of that.
+        assert!((soft_spl(Some(10.0), Some(5.0), 20.0) - 0.25).abs() < 1e-12);
+        // Ending farther away than the start earns nothing; no reachable goal earns nothing.
+        assert_eq!(soft_spl(Some(10.0), Some(12.0), 3.0), 0.0);
+        assert_eq!(soft_spl(None, Some(1.0), 3.0), 0.0);
+        // At the goal after the shortest path: 1.
+        assert!((soft_spl(Some(10.0), Some(0.0), 10.0) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_room_entered_again_after_leaving_it_counts_as_a_revisit() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        let world = load_world(&root.join("domains/environments/office.yaml")).unwrap();
+        // A point in each of two different true rooms.
+        let g = &world.walls;
+        let mut by_room: std::collections::BTreeMap<usize, [f64; 2]> = Default::default();
+        for row in 0..g.height() {
+            for col in 0..g.width() {
+                if let Some(r) = world.room_of_cell[g.index(col, row)] {
+                    let (x, y) = g.cell_center(col as i64, row as i64);
+                    by_room.entry(r).or_insert([x, y]);
+                }
+            }
+        }
+        let mut rooms = by_room.values().copied();
+        let (a, b) = (rooms.next().unwrap(), rooms.next().unwrap());
+        assert_eq!(room_visits(&world, &[a, a, b, b]), (2, 0));
+        assert_eq!(room_visits(&world, &[a, b, a]), (2, 1));
+        assert_eq!(room_visits(&world, &[a, b, a, b, a]), (2, 3));
+        assert_eq!(room_visits(&world, &[]), (0, 0));
+    }
 }

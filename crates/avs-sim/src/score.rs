@@ -42,12 +42,16 @@ pub struct Score {
 /// environment file) from the start pose to the nearest object of `class`, metres.
 pub fn shortest_path_to_class(world: &World, class: &str) -> Option<f64> {
     let start = &world.env.robot.start;
+    geodesic_to_class(world, class, [start.x, start.y])
+}
+
+/// Length of the shortest collision-free path (as [`shortest_path_to_class`]) from `from` to
+/// the nearest object of `class`, metres: habitat's geodesic distance to the goal.
+pub fn geodesic_to_class(world: &World, class: &str, from: [f64; 2]) -> Option<f64> {
     let trav = Traversability::new(&world.truth, world.env.robot.radius, false);
     world
         .objects_of_class(class)
-        .filter_map(|o| {
-            shortest_path(&trav, [start.x, start.y], [o.pose.x, o.pose.y], 1.5).map(|p| p.length)
-        })
+        .filter_map(|o| shortest_path(&trav, from, [o.pose.x, o.pose.y], 1.5).map(|p| p.length))
         .min_by(f64::total_cmp)
 }
 

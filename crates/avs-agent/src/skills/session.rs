@@ -10,6 +10,7 @@ use crate::binding::{names, ObjArg};
 use crate::body::Body;
 use crate::memory::{ConeLoc, Known, Memory};
 use crate::reason::ReplanReason;
+use crate::report::Activity;
 use crate::report::{FoundObject, Goal};
 use crate::run::{Run, StepEnd};
 use crate::trace::{Event, SessionOutcome, View};
@@ -142,6 +143,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
         };
         let mut best: Vec<Option<Detection>> = vec![None; set.views.len()];
         let mut seen_points: BTreeSet<usize> = BTreeSet::new();
+        let activity = body.set_activity(Activity::ViewCones);
         for _ in 0..t.max_dt_steps {
             let t0 = Instant::now();
             let a = session.next_action();
@@ -233,6 +235,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                 }
             }
         }
+        body.set_activity(activity);
         mem.sync()?;
         looked_share = if steps == 0 {
             // Declared absent without looking: the DT planner's judgement covers the

@@ -5,7 +5,7 @@ use crate::body::Body;
 use crate::config::Strategy;
 use crate::memory::{standable, ConeLoc, ConeSet, Known, Memory, Target};
 use crate::reason::GiveUpReason;
-use crate::report::{FoundObject, Goal};
+use crate::report::{Activity, FoundObject, Goal};
 use crate::run::Run;
 use crate::skills::look_around::look_around_if_new;
 use crate::skills::verify::verify;
@@ -40,6 +40,27 @@ enum Next {
     reason = "the four parts of a search (settings, memory, body, run) plus what to cover and how"
 )]
 pub(crate) fn cover_all<R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+    goal: &Goal,
+    strategy: Strategy,
+    passes: usize,
+    look_around: bool,
+) -> Result<Result<FoundObject, GiveUpReason>, AgentError> {
+    let before = body.set_activity(Activity::Coverage);
+    let r = cover(cx, mem, body, run, goal, strategy, passes, look_around);
+    body.set_activity(before);
+    r
+}
+
+/// [`cover_all`]'s work, its motions booked as coverage.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the four parts of a search (settings, memory, body, run) plus what to cover how"
+)]
+fn cover<R: Robot + ?Sized>(
     cx: Ctx,
     mem: &mut Memory,
     body: &mut Body<R>,

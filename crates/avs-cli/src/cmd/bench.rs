@@ -100,7 +100,15 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         );
         println!("  success_rate      {:.3}", r.success_rate);
         println!("  spl_mean          {:.3}", r.spl_mean);
+        println!("  soft_spl_mean     {:.3}", r.soft_spl_mean);
+        println!("  wrong_reports     {}", r.wrong_reports);
         println!("  path_length_mean  {:.1} m", r.path_length_mean);
+        let by = &r.path_by_activity_mean;
+        println!(
+            "    by activity     exploration {:.1} m, view cones {:.1} m, verification {:.1} m, coverage {:.1} m",
+            by.exploration, by.view_cones, by.verification, by.coverage
+        );
+        println!("  room_revisits_mean {:.1}", r.room_revisits_mean);
         println!("  plans_mean        {:.1}", r.plans_mean);
         println!("  plan_ms_median    {:.2} ms", r.plan_ms_median);
         for run in r.runs.iter().filter(|r| r.reachable && !r.summary.found) {

@@ -222,7 +222,23 @@ pub fn print_summary(s: &Summary) {
     if let Some(l) = s.shortest_path_length {
         println!("  shortest path:        {l:.1} m");
     }
+    let by = &s.path_by_activity;
+    println!(
+        "    by activity:        exploration {:.1} m, view cones {:.1} m, verification {:.1} m, coverage {:.1} m",
+        by.exploration, by.view_cones, by.verification, by.coverage
+    );
+    println!(
+        "  rooms:                {} visited, {} revisits",
+        s.rooms_visited, s.room_revisits
+    );
+    if let Some(d) = s.distance_to_goal {
+        println!("  distance to goal:     {d:.1} m at the end");
+    }
     println!("  SPL:                  {:.3}", s.spl);
+    println!("  SoftSPL:              {:.3}", s.soft_spl);
+    if s.wrong_report {
+        println!("  WRONG REPORT:         no object of the class within 1 m of the report");
+    }
     println!("  plans:                {}", s.plans);
     println!("  DT sessions:          {}", s.dt_sessions);
     println!("  plan time (median):   {:.1} ms", s.plan_ms_median);
