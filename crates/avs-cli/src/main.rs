@@ -32,6 +32,8 @@ enum Command {
     Bench(cmd::bench::Args),
     /// Check avs files (environment, knowledge, domain, scenario) and report every problem.
     Validate(cmd::validate::Args),
+    /// Re-enact scenario files and print each expected property with PASS or FAIL.
+    Scenario(cmd::scenario::Args),
     /// Print the JSON Schema of an avs file kind.
     Schema(cmd::schema::Args),
     /// Segment a complete map into rooms by door detection, and score it against ground truth.
@@ -60,6 +62,7 @@ fn main() -> ExitCode {
         Command::Search(a) => cmd::search::run(a),
         Command::Bench(a) => cmd::bench::run(a),
         Command::Validate(a) => cmd::validate::run(a),
+        Command::Scenario(a) => cmd::scenario::run(a),
         Command::Schema(a) => cmd::schema::run(a),
         Command::Segment(a) => cmd::segment::run(a),
         Command::Render(a) => cmd::render::run(a),

@@ -8,6 +8,7 @@ pub mod plan;
 pub mod pomdp;
 pub mod render;
 pub mod run;
+pub mod scenario;
 pub mod schema;
 pub mod search;
 pub mod segment;

@@ -6,7 +6,9 @@
 use super::ScenarioRun;
 use avs_agent::Event;
 use avs_format::scenario::Scenario;
+use avs_sim::score::SUCCESS_RADIUS;
 use avs_sim::World;
+use serde::Serialize;
 
 fn plans(trace: &[Event]) -> impl Iterator<Item = &Vec<String>> {
     trace.iter().filter_map(|e| match e {
@@ -109,12 +111,46 @@ pub fn is_subsequence(want: &[String], got: &[String]) -> bool {
     want.iter().all(|w| it.any(|g| g == w))
 }
 
+/// One property of a scenario, judged.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct PropertyResult {
+    /// The property: the `expect.` field it comes from, or the name of a check made in every
+    /// scenario.
+    pub name: String,
+    /// Whether it holds.
+    pub pass: bool,
+    /// What was expected and what happened.
+    pub detail: String,
+}
+
 /// Every expected property that does not hold, as a message.
 pub fn check_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<String> {
+    evaluate_properties(sc, out)
+        .into_iter()
+        .filter(|p| !p.pass)
+        .map(|p| p.detail)
+        .collect()
+}
+
+/// Every property of `sc` judged on `out`: the checks made in every scenario, then each
+/// `expect` field the file sets.
+pub fn evaluate_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<PropertyResult> {
     let x = &sc.expect;
     let r = out.main();
     let t = &r.trace;
-    let mut bad = Vec::new();
+    let mut results = Vec::new();
+    let mut bad: Vec<String> = Vec::new();
+    // Records the property `name`: it holds when the checks since the last one added no
+    // message to `bad`.
+    let mut judge = |name: &str, bad: &mut Vec<String>, ok_detail: String| {
+        let pass = bad.is_empty();
+        results.push(PropertyResult {
+            name: name.to_string(),
+            pass,
+            detail: if pass { ok_detail } else { bad.join("; ") },
+        });
+        bad.clear();
+    };
     // In every scenario: a search's result is always filed in the world model, even when the
     // place map re-drew the searched room meanwhile.
     for (goal, rep) in &out.reports {
@@ -126,6 +162,37 @@ pub fn check_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<String> {
             }
         }
     }
+    judge(
+        "results_filed",
+        &mut bad,
+        "every search's result was filed in the world model".into(),
+    );
+    // In every scenario: no search reports an object where none of its class is.
+    for (goal, rep) in &out.reports {
+        if let Some(f) = &rep.found {
+            let best = out
+                .world
+                .objects_of_class(goal)
+                .map(|o| (f.pose.x - o.pose.x).hypot(f.pose.y - o.pose.y))
+                .fold(f64::INFINITY, f64::min);
+            if best > SUCCESS_RADIUS {
+                let off = if best.is_finite() {
+                    format!("{best:.2} m from the nearest true {goal}")
+                } else {
+                    format!("but the world has no {goal}")
+                };
+                bad.push(format!(
+                    "the search for {goal} reported {} at ({:.2}, {:.2}), {off}",
+                    f.name, f.pose.x, f.pose.y
+                ));
+            }
+        }
+    }
+    judge(
+        "no_wrong_report",
+        &mut bad,
+        format!("no report farther than {SUCCESS_RADIUS} m from a true object of its class"),
+    );
     if let Some(want) = x.found {
         if r.found.is_some() != want {
             bad.push(format!(
@@ -133,6 +200,9 @@ pub fn check_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<String> {
                 r.found, r.reason
             ));
         }
+    }
+    if x.found.is_some() {
+        judge("expect.found", &mut bad, "holds".into());
     }
     if let Some(d) = x.found_within_m {
         match &r.found {
@@ -158,6 +228,9 @@ pub fn check_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<String> {
             }
         }
     }
+    if x.found_within_m.is_some() {
+        judge("expect.found_within_m", &mut bad, "holds".into());
+    }
     let first = plans(t).next();
     if let Some(c) = &x.first_plan_assumes_category {
         let line = first.and_then(|p| {
@@ -172,6 +245,13 @@ pub fn check_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<String> {
             ));
         }
     }
+    if x.first_plan_assumes_category.is_some() {
+        judge(
+            "expect.first_plan_assumes_category",
+            &mut bad,
+            "holds".into(),
+        );
+    }
     if let Some(want) = x.first_plan_assumes_new_room {
         let got = first.is_some_and(|p| p.iter().any(|s| s.starts_with("ASSUME-LEADS-TO-ROOM ")));
         if got != want {
@@ -179,6 +259,13 @@ pub fn check_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<String> {
                 "expect.first_plan_assumes_new_room: {want}, but the first plan is {first:?}"
             ));
         }
+    }
+    if x.first_plan_assumes_new_room.is_some() {
+        judge(
+            "expect.first_plan_assumes_new_room",
+            &mut bad,
+            "holds".into(),
+        );
     }
     if let Some(c) = &x.some_plan_assumes_new_room {
         let ok = plans(t).flatten().any(|s| {
@@ -191,6 +278,13 @@ pub fn check_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<String> {
                  `ASSUME-LEADS-TO-ROOM <placeholder> {c}` line"
             ));
         }
+    }
+    if x.some_plan_assumes_new_room.is_some() {
+        judge(
+            "expect.some_plan_assumes_new_room",
+            &mut bad,
+            "holds".into(),
+        );
     }
     if let Some(want) = x.assumption_violated {
         let got = t
@@ -207,6 +301,9 @@ pub fn check_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<String> {
             ));
         }
     }
+    if x.assumption_violated.is_some() {
+        judge("expect.assumption_violated", &mut bad, "holds".into());
+    }
     if let Some(n) = x.min_plans {
         if r.metrics.plans < n {
             bad.push(format!(
@@ -214,6 +311,9 @@ pub fn check_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<String> {
                 r.metrics.plans
             ));
         }
+    }
+    if x.min_plans.is_some() {
+        judge("expect.min_plans", &mut bad, "holds".into());
     }
     if let Some(s) = &x.gave_up_reason_contains {
         let reason = r.gave_up.as_ref().map(|g| g.to_string());
@@ -223,6 +323,9 @@ pub fn check_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<String> {
                 r.reason
             ));
         }
+    }
+    if x.gave_up_reason_contains.is_some() {
+        judge("expect.gave_up_reason_contains", &mut bad, "holds".into());
     }
     let done = searches(t);
     for lc in &x.searched_on {
@@ -236,6 +339,9 @@ pub fn check_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<String> {
             ));
         }
     }
+    if !x.searched_on.is_empty() {
+        judge("expect.searched_on", &mut bad, "holds".into());
+    }
     if !x.searched_for.is_empty() {
         let classes: Vec<String> = done.iter().map(|(c, _)| c.clone()).collect();
         if !is_subsequence(&x.searched_for, &classes) {
@@ -245,12 +351,18 @@ pub fn check_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<String> {
             ));
         }
     }
+    if !x.searched_for.is_empty() {
+        judge("expect.searched_for", &mut bad, "holds".into());
+    }
     let path_rooms = rooms_along_path(&out.world, t);
     if !x.entered_rooms.is_empty() && !is_subsequence(&x.entered_rooms, &path_rooms) {
         bad.push(format!(
             "expect.entered_rooms: {:?} in this order, but the robot went through {path_rooms:?}",
             x.entered_rooms
         ));
+    }
+    if !x.entered_rooms.is_empty() {
+        judge("expect.entered_rooms", &mut bad, "holds".into());
     }
     let views = view_rooms(&out.world, t);
     if let Some(room) = &x.first_search_in {
@@ -260,6 +372,9 @@ pub fn check_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<String> {
             ));
         }
     }
+    if x.first_search_in.is_some() {
+        judge("expect.first_search_in", &mut bad, "holds".into());
+    }
     for room in &x.never_searched_in {
         if views.contains(room) {
             bad.push(format!(
@@ -267,7 +382,10 @@ pub fn check_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<String> {
             ));
         }
     }
-    bad
+    if !x.never_searched_in.is_empty() {
+        judge("expect.never_searched_in", &mut bad, "holds".into());
+    }
+    results
 }
 
 #[cfg(test)]
