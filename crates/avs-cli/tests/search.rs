@@ -58,20 +58,96 @@ fn fault_flags_are_checked_and_name_what_is_expected() {
     let mut args = OFFICE.to_vec();
     args.extend(["--goal", "cerealbox", "--close-door", "no_such_door@3"]);
     let out = avs(&args);
-    assert_eq!(out.status.code(), Some(2));
+    // Invalid input exits 1; usage errors (clap) exit 2.
+    assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
         err.contains("door_events[0].door") && err.contains("door_kitchen"),
         "stderr: {err}"
     );
     let mut args = OFFICE.to_vec();
-    args.extend(["--goal", "cerealbox", "--close-door", "door_kitchen"]);
-    let err = String::from_utf8_lossy(&avs(&args).stderr).to_string();
-    assert!(err.contains("NAME@METRES"), "stderr: {err}");
+    args.extend(["--goal", "cerealbox", "--close-door", "door_kitchen@x"]);
+    let out = avs(&args);
+    let err = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(err.contains("not a number of metres"), "stderr: {err}");
+    assert_eq!(out.status.code(), Some(2));
     let mut args = OFFICE.to_vec();
     args.extend(["--goal", "cerealbox", "--failure-rate", "1.5"]);
-    let err = String::from_utf8_lossy(&avs(&args).stderr).to_string();
+    let out = avs(&args);
+    let err = String::from_utf8_lossy(&out.stderr).to_string();
     assert!(err.contains("--failure-rate 1.5"), "stderr: {err}");
+    assert_eq!(out.status.code(), Some(1));
+    let mut args = OFFICE.to_vec();
+    args.extend(["--goal", "cerealbox", "--start", "1,2"]);
+    let out = avs(&args);
+    let err = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(err.contains("X,Y,YAW_DEG"), "stderr: {err}");
+    assert_eq!(out.status.code(), Some(2));
+    let mut args = OFFICE.to_vec();
+    args.extend(["--goal", "cerealbox", "--remove", "unicorn"]);
+    let out = avs(&args);
+    let err = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(
+        err.contains("--remove #1") && err.contains("unicorn"),
+        "stderr: {err}"
+    );
+    assert_eq!(out.status.code(), Some(1));
+}
+
+#[test]
+fn world_edits_and_the_paper_give_up_end_a_search_for_a_removed_target_with_exit_3() {
+    // No cereal box anywhere, the kitchen shut, the robot started in office2: with the paper's
+    // give-up the planner stops at its threshold instead of covering the floor.
+    let mut args = OFFICE.to_vec();
+    args.extend([
+        "--goal",
+        "cerealbox",
+        "--remove",
+        "cerealbox",
+        "--close-door",
+        "door_kitchen",
+        "--start",
+        "11.2,4.0,180",
+        "--give-up",
+        "paper",
+    ]);
+    let out = avs(&args);
+    assert_eq!(
+        out.status.code(),
+        Some(3),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let s: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON summary");
+    assert_eq!(s["found"], false, "{s:#}");
+    assert!(s["reported_pose"].is_null(), "{s:#}");
+    assert_eq!(s["path_by_activity"]["coverage"], 0.0, "{s:#}");
+    let reason = s["reason"].as_str().unwrap();
+    assert!(!reason.contains("covering"), "{reason}");
+}
+
+#[test]
+fn a_search_before_the_goal_uses_the_same_agent() {
+    // The stapler first, then the cerealbox: the goal's search is scored from where the first
+    // one ended, so its shortest path differs from the one from the start pose.
+    let mut alone = OFFICE.to_vec();
+    alone.extend(["--goal", "cerealbox"]);
+    let mut after = alone.clone();
+    after.extend(["--before", "stapler"]);
+    let (a, b) = (avs(&alone), avs(&after));
+    assert_eq!(a.status.code(), Some(0));
+    let a: serde_json::Value = serde_json::from_slice(&a.stdout).unwrap();
+    let b: serde_json::Value = serde_json::from_slice(&b.stdout).unwrap();
+    assert!(b["shortest_path_length"].is_number(), "{b:#}");
+    assert_ne!(
+        a["shortest_path_length"], b["shortest_path_length"],
+        "{a:#}\n{b:#}"
+    );
+    let mut bad = alone.clone();
+    bad.extend(["--before", "unicorn"]);
+    let out = avs(&bad);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unicorn"));
 }
 
 #[test]

@@ -183,6 +183,7 @@ pub fn bench(
                 goal: &g,
                 seed: s,
                 config: config.clone(),
+                before: &[],
                 faults: Faults::default(),
             };
             let out = run_episode(&world, &spec, &mut |_| {})

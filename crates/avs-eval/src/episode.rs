@@ -7,7 +7,7 @@ use avs_agent::{Agent, AgentConfig, Event, Goal, PathBreakdown, SearchReport};
 use avs_format::knowledge::Knowledge;
 use avs_plan::domain::Domain;
 use avs_sim::robot::DoorEvent;
-use avs_sim::score::{geodesic_to_class, score};
+use avs_sim::score::{geodesic_to_class, score_from};
 use avs_sim::sim_robot::{SimAgentRobot, SimRobotConfig};
 use avs_sim::World;
 use serde::Serialize;
@@ -151,6 +151,9 @@ pub struct EpisodeSpec<'a> {
     pub config: AgentConfig,
     /// Fault injection.
     pub faults: Faults,
+    /// Classes the same agent searches for first, in order (its memory carries over); the
+    /// summary is the goal's search.
+    pub before: &'a [String],
 }
 
 /// One search in `world` as `spec` says; `on_event` sees every trace event as it happens. The
@@ -173,6 +176,14 @@ pub fn run_episode(
         spec.config.clone(),
     )?;
     let mut sink = |e: &Event| on_event(e);
+    for class in spec.before {
+        agent.search_with(&mut robot, Goal::find(class), &mut sink)?;
+    }
+    let goal_from = robot.trail().len().saturating_sub(1);
+    let start = robot.trail().last().copied().unwrap_or_else(|| {
+        let s = &world.env.robot.start;
+        [s.x, s.y]
+    });
     let report = agent.search_with(&mut robot, Goal::find(spec.goal), &mut sink)?;
     // Scoring against ground truth (the agent never saw it).
     let reported = report
@@ -180,14 +191,14 @@ pub fn run_episode(
         .as_ref()
         .map(|f| [f.pose.x, f.pose.y, f.pose.z]);
     let path = report.metrics.path_length;
-    let sc = score(world, spec.goal, reported, path);
+    let sc = score_from(world, spec.goal, start, reported, path);
     let trail = robot.trail().to_vec();
     let end = trail.last().copied().unwrap_or_else(|| {
         let s = &world.env.robot.start;
         [s.x, s.y]
     });
     let distance_to_goal = geodesic_to_class(world, spec.goal, end);
-    let (rooms_visited, room_revisits) = room_visits(world, &trail);
+    let (rooms_visited, room_revisits) = room_visits(world, &trail[goal_from.min(trail.len())..]);
     let summary = Summary {
         found: sc.found,
         reported_pose: reported,

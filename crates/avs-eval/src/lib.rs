@@ -6,6 +6,7 @@
 //! * [`episode`] — one scored episode: a world, a simulated robot with faults, an agent, one
 //!   search, the result scored against the truth (success, error, SPL);
 //! * [`bench`](mod@bench) — the search bench over generated floors (success rate, SPL, path length);
+//! * [`edits`] — world edits before a search (start pose, closed doors, removed objects);
 //! * [`scenario`] — the scenario runner: a scenario file re-enacted (world edits, searches
 //!   before the goal), its expected properties checked and its text trace compared with the
 //!   golden file (the plan-trace suite in `tests/plan_traces/`).
@@ -28,12 +29,14 @@
 //!     seed: 1,
 //!     config: avs_agent::AgentConfig::default(),
 //!     faults: Faults::default(),
+//!     before: &[],
 //! };
 //! let episode = run_episode(&world, &spec, &mut |_| {}).unwrap();
 //! assert!(episode.summary.found && episode.summary.spl > 0.0);
 //! ```
 
 pub mod bench;
+pub mod edits;
 pub mod episode;
 mod error;
 pub mod scenario;

@@ -57,7 +57,20 @@ pub fn geodesic_to_class(world: &World, class: &str, from: [f64; 2]) -> Option<f
 
 /// Score a report (`None` when the agent gave up) after driving `path_length` metres.
 pub fn score(world: &World, class: &str, reported: Option<[f64; 3]>, path_length: f64) -> Score {
-    let shortest = shortest_path_to_class(world, class);
+    let start = &world.env.robot.start;
+    score_from(world, class, [start.x, start.y], reported, path_length)
+}
+
+/// [`score`] for a search that started at `from` (not the environment's start pose, e.g. a
+/// search after others by the same robot).
+pub fn score_from(
+    world: &World,
+    class: &str,
+    from: [f64; 2],
+    reported: Option<[f64; 3]>,
+    path_length: f64,
+) -> Score {
+    let shortest = geodesic_to_class(world, class, from);
     let error = reported.and_then(|r| {
         world
             .objects_of_class(class)

@@ -1,6 +1,9 @@
 //! `avs search --env E --knowledge K --domain D --goal CLASS [--seed N] [--trace-json F]
 //! [--svg F] [--json] [--strategy planner|uninformed|frontier] [--failure-rate P]
-//! [--fp-scale X] [--close-door NAME@METRES]...`
+//! [--fp-scale X] [--close-door NAME[@METRES]]... [--start X,Y,YAW_DEG] [--remove CLASS_OR_ID]...
+//! [--before CLASS]... [--give-up paper|cover]`
+//!
+//! Exit status: 0 found, 3 searched and not found, 1 invalid input, 2 usage.
 //!
 //! One object search by the agent in the simulated environment (an `avs_eval` episode), with the
 //! plan trace printed as it happens and a summary. The agent never sees ground truth; this command reads it only to
@@ -8,7 +11,8 @@
 
 use anyhow::{anyhow, Context};
 use avs_agent::{AgentConfig, Event, Strategy};
-use avs_eval::episode::{load_inputs, run_episode, EpisodeSpec};
+use avs_eval::edits::{load_edited_world, EditField, RemoveObjects, Start, WorldEdits};
+use avs_eval::episode::{load_domain, load_knowledge, run_episode, EpisodeSpec};
 pub use avs_eval::episode::{Faults, Summary};
 use avs_sim::robot::DoorEvent;
 use std::io::Write;
@@ -51,9 +55,69 @@ pub struct Args {
     /// Fault injection: multiply the knowledge's false-positive rate (2 doubles false alarms).
     #[arg(long, default_value_t = 1.0)]
     pub fp_scale: f64,
-    /// Fault injection: close door NAME once the robot has driven METRES (repeatable).
-    #[arg(long, value_name = "NAME@METRES", value_parser = parse_door_event)]
-    pub close_door: Vec<DoorEvent>,
+    /// Close door NAME from the start, or (NAME@METRES, fault injection) once the robot has
+    /// driven METRES (repeatable).
+    #[arg(long, value_name = "NAME[@METRES]", value_parser = parse_door)]
+    pub close_door: Vec<DoorClosing>,
+    /// Start the robot here instead of the environment's start pose.
+    #[arg(long, value_name = "X,Y,YAW_DEG", value_parser = parse_start)]
+    pub start: Option<Start>,
+    /// Take an object out of the world (with what stands on or lies in it): an object id, or
+    /// every object of a class (repeatable).
+    #[arg(long, value_name = "CLASS_OR_ID")]
+    pub remove: Vec<String>,
+    /// Search for these classes first with the same agent, in order (repeatable); the summary
+    /// is the goal's search.
+    #[arg(long, value_name = "CLASS")]
+    pub before: Vec<String>,
+    /// When the planner gives up: `paper` ends the search there (the paper's threshold),
+    /// `cover` first covers what no search has looked at.
+    #[arg(long, value_enum, default_value_t = GiveUp::Cover)]
+    pub give_up: GiveUp,
+}
+
+/// What the agent does when the planner gives up.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum GiveUp {
+    /// End the search (the paper's threshold).
+    Paper,
+    /// Cover what no search has looked at first.
+    Cover,
+}
+
+/// A door to close: from the start, or during the run.
+#[derive(Debug, Clone)]
+pub enum DoorClosing {
+    /// Closed before the search starts.
+    AtStart(String),
+    /// Closed once the robot has driven some distance (fault injection).
+    During(DoorEvent),
+}
+
+/// `NAME` or `NAME@METRES`.
+fn parse_door(s: &str) -> Result<DoorClosing, String> {
+    if s.contains('@') {
+        parse_door_event(s).map(DoorClosing::During)
+    } else if s.is_empty() {
+        Err("expected a door name, or NAME@METRES".into())
+    } else {
+        Ok(DoorClosing::AtStart(s.to_string()))
+    }
+}
+
+/// `X,Y,YAW_DEG` (metres, metres, degrees).
+fn parse_start(s: &str) -> Result<Start, String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("`{s}`: expected X,Y,YAW_DEG, three numbers, e.g. 2.5,3,90"))?;
+    match v[..] {
+        [x, y, yaw_deg] if v.iter().all(|n| n.is_finite()) => Ok(Start { x, y, yaw_deg }),
+        _ => Err(format!(
+            "`{s}`: expected X,Y,YAW_DEG, three finite numbers, e.g. 2.5,3,90"
+        )),
+    }
 }
 
 /// `NAME@METRES` → a door-closing event.
@@ -92,6 +156,12 @@ pub struct Request<'a> {
     pub strategy: Strategy,
     /// Fault injection.
     pub faults: Faults,
+    /// World edits before the search.
+    pub edits: WorldEdits,
+    /// Classes searched for first by the same agent.
+    pub before: &'a [String],
+    /// Cover what no search has looked at before giving up.
+    pub cover_before_giving_up: bool,
     /// JSON-lines trace file.
     pub json_file: Option<&'a Path>,
     /// SVG picture of the run.
@@ -134,7 +204,23 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
             }
         }
     };
-    let (world, k, d) = load_inputs(env, knowledge, domain)?;
+    let world = load_edited_world(env, &r.edits, |f| match f {
+        EditField::CloseDoor(i) => format!("--close-door #{}", i + 1),
+        EditField::RemoveClass(i) | EditField::RemoveId(i) => format!("--remove #{}", i + 1),
+    })?;
+    let (k, d) = (load_knowledge(knowledge)?, load_domain(domain)?);
+    for class in r.before.iter().chain([&goal.to_string()]) {
+        anyhow::ensure!(
+            k.class(class).is_some(),
+            "--before/--goal {class}: not an object class of {}; expected one of {}",
+            knowledge.display(),
+            k.object_classes
+                .iter()
+                .map(|c| c.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
     let spec = EpisodeSpec {
         knowledge: &k,
         domain: &d,
@@ -142,9 +228,11 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
         seed,
         config: AgentConfig {
             strategy: r.strategy,
+            cover_before_giving_up: r.cover_before_giving_up,
             ..AgentConfig::default()
         },
         faults: r.faults.clone(),
+        before: r.before,
     };
     let out = run_episode(&world, &spec, &mut on_event)
         .with_context(|| format!("searching {}", env.display()))?;
@@ -164,8 +252,24 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
     Ok(out.summary)
 }
 
-/// Run the subcommand.
+/// Run the subcommand: 0 found, 3 searched and not found, 1 invalid input (clap exits 2 for
+/// usage errors before this runs).
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {
+    match search(a) {
+        Ok(found) => Ok(if found {
+            ExitCode::SUCCESS
+        } else {
+            ExitCode::from(3)
+        }),
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            Ok(ExitCode::from(1))
+        }
+    }
+}
+
+/// The search of `a`; whether the target was found.
+fn search(a: Args) -> anyhow::Result<bool> {
     anyhow::ensure!(
         (0.0..=1.0).contains(&a.failure_rate),
         "--failure-rate {}: expected a probability in [0, 1]",
@@ -176,6 +280,24 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         "--fp-scale {}: expected a finite number ≥ 0",
         a.fp_scale
     );
+    // An id of the environment is removed as that object, anything else as a class.
+    let env: avs_format::environment::Environment =
+        avs_format::load_yaml(&a.env).with_context(|| format!("reading {}", a.env.display()))?;
+    let mut remove = RemoveObjects::default();
+    for x in &a.remove {
+        if env.objects.iter().any(|o| &o.id == x) {
+            remove.ids.push(x.clone());
+        } else {
+            remove.classes.push(x.clone());
+        }
+    }
+    let (mut close_doors, mut door_events) = (Vec::new(), Vec::new());
+    for c in &a.close_door {
+        match c {
+            DoorClosing::AtStart(n) => close_doors.push(n.clone()),
+            DoorClosing::During(e) => door_events.push(e.clone()),
+        }
+    }
     let s = run_search(&Request {
         env: &a.env,
         knowledge: &a.knowledge,
@@ -186,8 +308,15 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         faults: Faults {
             failure_rate: a.failure_rate,
             fp_scale: Some(a.fp_scale),
-            door_events: a.close_door.clone(),
+            door_events,
         },
+        edits: WorldEdits {
+            start: a.start,
+            close_doors,
+            remove,
+        },
+        before: &a.before,
+        cover_before_giving_up: a.give_up == GiveUp::Cover,
         json_file: a.trace_json.as_deref(),
         svg: a.svg.as_deref(),
         quiet: a.json,
@@ -197,11 +326,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     } else {
         print_summary(&s);
     }
-    Ok(if s.found {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(1)
-    })
+    Ok(s.found)
 }
 
 /// Print the summary as text.

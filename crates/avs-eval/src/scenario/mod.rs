@@ -6,6 +6,7 @@
 pub mod golden;
 pub mod properties;
 
+use crate::edits::{edit_environment, EditField, WorldEdits};
 use crate::episode::{load_domain, load_knowledge};
 use crate::EvalError;
 use avs_agent::trace::{render_json_lines, render_text};
@@ -15,7 +16,6 @@ use avs_format::knowledge::Knowledge;
 use avs_format::scenario::Scenario;
 use avs_sim::sim_robot::{SimAgentRobot, SimRobotConfig};
 use avs_sim::World;
-use std::collections::BTreeSet;
 use std::path::Path;
 
 /// Read a scenario file and check its fields; errors name the file and the field.
@@ -50,66 +50,19 @@ pub fn build_world(sc: &Scenario, file: &Path, root: &Path) -> Result<World, Eva
     let env_path = root.join(&sc.environment);
     let mut env: Environment =
         avs_format::load_yaml(&env_path).map_err(|e| field("environment".into(), e.to_string()))?;
-    if let Some(s) = &sc.start {
-        env.robot.start.x = s.x;
-        env.robot.start.y = s.y;
-        env.robot.start.yaw_deg = s.yaw_deg;
-    }
-    for (i, name) in sc.close_doors.iter().enumerate() {
-        let door = env
-            .doors
-            .iter_mut()
-            .find(|d| &d.name == name)
-            .ok_or_else(|| {
-                field(
-                    format!("close_doors[{i}]"),
-                    format!("unknown door `{name}`; one of the environment's doors"),
-                )
-            })?;
-        door.open = false;
-    }
-    if let Some(r) = &sc.remove_objects {
-        for (i, c) in r.classes.iter().enumerate() {
-            if !env.objects.iter().any(|o| &o.class == c) {
-                return Err(field(
-                    format!("remove_objects.classes[{i}]"),
-                    format!("no object of class `{c}` in {}", sc.environment),
-                ));
-            }
-        }
-        for (i, id) in r.ids.iter().enumerate() {
-            if !env.objects.iter().any(|o| &o.id == id) {
-                return Err(field(
-                    format!("remove_objects.ids[{i}]"),
-                    format!("no object `{id}` in {}", sc.environment),
-                ));
-            }
-        }
-        let mut gone: BTreeSet<String> = env
-            .objects
-            .iter()
-            .filter(|o| r.classes.contains(&o.class) || r.ids.contains(&o.id))
-            .map(|o| o.id.clone())
-            .collect();
-        // Whatever stands on or lies in a removed object goes with it.
-        loop {
-            let more: Vec<String> = env
-                .objects
-                .iter()
-                .filter(|o| !gone.contains(&o.id))
-                .filter(|o| {
-                    o.on.as_ref().is_some_and(|s| gone.contains(s))
-                        || o.r#in.as_ref().is_some_and(|s| gone.contains(s))
-                })
-                .map(|o| o.id.clone())
-                .collect();
-            if more.is_empty() {
-                break;
-            }
-            gone.extend(more);
-        }
-        env.objects.retain(|o| !gone.contains(&o.id));
-    }
+    let edits = WorldEdits {
+        start: sc.start,
+        close_doors: sc.close_doors.clone(),
+        remove: sc.remove_objects.clone().unwrap_or_default(),
+    };
+    edit_environment(&mut env, &edits, &sc.environment).map_err(|(which, message)| {
+        let name = match which {
+            EditField::CloseDoor(i) => format!("close_doors[{i}]"),
+            EditField::RemoveClass(i) => format!("remove_objects.classes[{i}]"),
+            EditField::RemoveId(i) => format!("remove_objects.ids[{i}]"),
+        };
+        field(name, message)
+    })?;
     let base = env_path.parent().unwrap_or(Path::new("."));
     World::new(env, base).map_err(|e| field("environment".into(), e.to_string()))
 }
