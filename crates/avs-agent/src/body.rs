@@ -30,9 +30,12 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
         }
     }
 
-    /// Account the motions from now on to `activity`; returns the one before, to restore.
-    pub fn set_activity(&mut self, activity: Activity) -> Activity {
-        std::mem::replace(&mut self.activity, activity)
+    /// Run `f` with its motions booked to `activity` (the one before is restored after).
+    pub fn with_activity<T>(&mut self, activity: Activity, f: impl FnOnce(&mut Self) -> T) -> T {
+        let before = std::mem::replace(&mut self.activity, activity);
+        let r = f(self);
+        self.activity = before;
+        r
     }
 
     /// Metres driven so far through this body, per activity.

@@ -9,7 +9,7 @@ use crate::body::Body;
 use crate::config::{AgentConfig, Strategy};
 use crate::memory::Memory;
 use crate::reason::{GiveUpReason, ReplanReason};
-use crate::report::{FoundObject, Goal, SearchReport};
+use crate::report::{Activity, FoundObject, Goal, SearchReport};
 use crate::run::{Run, StepEnd};
 use crate::skills::enter::enter;
 use crate::skills::look_around::{look_around, look_around_if_new};
@@ -365,7 +365,9 @@ fn last_resort<R: Robot + ?Sized>(
     let spent = run.metrics.actions;
     run.metrics.actions = 0;
     let passes = cx.tuning().cover_passes;
-    let end = cover_all(cx, mem, body, run, goal, Strategy::Uninformed, passes, true);
+    let end = body.with_activity(Activity::Coverage, |b| {
+        cover_all(cx, mem, b, run, goal, Strategy::Uninformed, passes, true)
+    });
     run.metrics.actions += spent;
     Ok(end?.map_err(|e| GiveUpReason::AfterCoverage {
         planner: Box::new(reason),

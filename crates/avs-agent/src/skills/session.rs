@@ -143,7 +143,6 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
         };
         let mut best: Vec<Option<Detection>> = vec![None; set.views.len()];
         let mut seen_points: BTreeSet<usize> = BTreeSet::new();
-        let activity = body.set_activity(Activity::ViewCones);
         for _ in 0..t.max_dt_steps {
             let t0 = Instant::now();
             let a = session.next_action();
@@ -155,7 +154,8 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                     if matches!(loc, ConeLoc::Room(_)) && label == goal.class {
                         run.cover(set.cells[cone].iter().map(|&k| set.points[k]));
                     }
-                    if let Err(e) = body.go_to(mem, [v.pose[0], v.pose[1]])? {
+                    let to = [v.pose[0], v.pose[1]];
+                    if let Err(e) = body.with_activity(Activity::ViewCones, |b| b.go_to(mem, to))? {
                         run.observe(format!("on the way to view cone {cone}: {e}"));
                     }
                     let vc = ViewCone::new(
@@ -164,9 +164,11 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                         v.tilt,
                         v.zoom,
                     );
-                    let mut rep = body.look(&vc, &[label.to_string()]);
+                    let classes = [label.to_string()];
+                    let mut rep =
+                        body.with_activity(Activity::ViewCones, |b| b.look(&vc, &classes));
                     if rep.is_err() {
-                        rep = body.look(&vc, &[label.to_string()]);
+                        rep = body.with_activity(Activity::ViewCones, |b| b.look(&vc, &classes));
                     }
                     body.refresh_map(mem);
                     let det = match rep {
@@ -212,7 +214,10 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                         view: None,
                     });
                     if let Some(d) = best[cone].clone() {
-                        match verify(cx, mem, body, run, label, &d)? {
+                        let checked = body.with_activity(Activity::Verification, |b| {
+                            verify(cx, mem, b, run, label, &d)
+                        });
+                        match checked? {
                             Some(v) => outcome = Some(v),
                             None => unconfirmed = Some(cone),
                         }
@@ -235,7 +240,6 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                 }
             }
         }
-        body.set_activity(activity);
         mem.sync()?;
         looked_share = if steps == 0 {
             // Declared absent without looking: the DT planner's judgement covers the

@@ -4,7 +4,6 @@
 use super::Ctx;
 use crate::body::Body;
 use crate::memory::{path_len_on, Memory};
-use crate::report::Activity;
 use crate::run::Run;
 use crate::trace::{Event, View};
 use crate::AgentError;
@@ -22,21 +21,6 @@ use avs_view::{sight_clear, SightLine};
 /// rate 0.2 a real object passes with 0.90; a look-alike that fires one look in four with
 /// 0.16. A sighting not confirmed is remembered as rejected.
 pub(crate) fn verify<R: Robot + ?Sized>(
-    cx: Ctx,
-    mem: &mut Memory,
-    body: &mut Body<R>,
-    run: &mut Run,
-    label: &str,
-    d: &Detection,
-) -> Result<Option<Detection>, AgentError> {
-    let before = body.set_activity(Activity::Verification);
-    let r = verify_sighting(cx, mem, body, run, label, d);
-    body.set_activity(before);
-    r
-}
-
-/// [`verify`]'s work, its motions booked as verification.
-fn verify_sighting<R: Robot + ?Sized>(
     cx: Ctx,
     mem: &mut Memory,
     body: &mut Body<R>,

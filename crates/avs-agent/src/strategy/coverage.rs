@@ -49,27 +49,6 @@ pub(crate) fn cover_all<R: Robot + ?Sized>(
     passes: usize,
     look_around: bool,
 ) -> Result<Result<FoundObject, GiveUpReason>, AgentError> {
-    let before = body.set_activity(Activity::Coverage);
-    let r = cover(cx, mem, body, run, goal, strategy, passes, look_around);
-    body.set_activity(before);
-    r
-}
-
-/// [`cover_all`]'s work, its motions booked as coverage.
-#[expect(
-    clippy::too_many_arguments,
-    reason = "the four parts of a search (settings, memory, body, run) plus what to cover how"
-)]
-fn cover<R: Robot + ?Sized>(
-    cx: Ctx,
-    mem: &mut Memory,
-    body: &mut Body<R>,
-    run: &mut Run,
-    goal: &Goal,
-    strategy: Strategy,
-    passes: usize,
-    look_around: bool,
-) -> Result<Result<FoundObject, GiveUpReason>, AgentError> {
     let Some(class) = cx.knowledge.class(&goal.class).cloned() else {
         return Ok(Err(GiveUpReason::UnknownClass(goal.class.clone())));
     };
@@ -393,7 +372,9 @@ fn process_views<R: Robot + ?Sized>(
             None
         };
         let confirmed = match first {
-            Some(d) => verify(cx, mem, body, run, label, &d)?,
+            Some(d) => body.with_activity(Activity::Verification, |b| {
+                verify(cx, mem, b, run, label, &d)
+            })?,
             None => None,
         };
         body.refresh_map(mem);

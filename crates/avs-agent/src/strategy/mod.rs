@@ -49,7 +49,7 @@ use crate::body::Body;
 use crate::config::Strategy;
 use crate::memory::Memory;
 use crate::reason::GiveUpReason;
-use crate::report::{FoundObject, Goal};
+use crate::report::{Activity, FoundObject, Goal};
 use crate::run::Run;
 use crate::skills::Ctx;
 use crate::AgentError;
@@ -64,5 +64,7 @@ pub(crate) fn baseline_loop<R: Robot + ?Sized>(
     goal: &Goal,
     strategy: Strategy,
 ) -> Result<Result<FoundObject, GiveUpReason>, AgentError> {
-    cover_all(cx, mem, body, run, goal, strategy, 1, false)
+    body.with_activity(Activity::Coverage, |b| {
+        cover_all(cx, mem, b, run, goal, strategy, 1, false)
+    })
 }
