@@ -179,11 +179,9 @@ pub fn run_episode(
     for class in spec.before {
         agent.search_with(&mut robot, Goal::find(class), &mut sink)?;
     }
+    let origin = [world.env.robot.start.x, world.env.robot.start.y];
     let goal_from = robot.trail().len().saturating_sub(1);
-    let start = robot.trail().last().copied().unwrap_or_else(|| {
-        let s = &world.env.robot.start;
-        [s.x, s.y]
-    });
+    let start = robot.trail().last().copied().unwrap_or(origin);
     let report = agent.search_with(&mut robot, Goal::find(spec.goal), &mut sink)?;
     // Scoring against ground truth (the agent never saw it).
     let reported = report
@@ -193,10 +191,7 @@ pub fn run_episode(
     let path = report.metrics.path_length;
     let sc = score_from(world, spec.goal, start, reported, path);
     let trail = robot.trail().to_vec();
-    let end = trail.last().copied().unwrap_or_else(|| {
-        let s = &world.env.robot.start;
-        [s.x, s.y]
-    });
+    let end = trail.last().copied().unwrap_or(origin);
     let distance_to_goal = geodesic_to_class(world, spec.goal, end);
     let (rooms_visited, room_revisits) = room_visits(world, &trail[goal_from.min(trail.len())..]);
     let summary = Summary {
