@@ -51,7 +51,21 @@ enum Command {
     Pomdp(cmd::pomdp::Command),
 }
 
+/// Rust ignores SIGPIPE, so a write to a closed pipe (`avs schema environment | head -c1`) is an
+/// error, and `println!` panics on it. A command-line tool whose reader went away should end
+/// quietly, as the shell's own tools do: restore the default action (the process ends with
+/// the conventional status 141).
+fn die_quietly_on_closed_pipe() {
+    #[cfg(unix)]
+    // SAFETY: `signal` with `SIG_DFL` only resets this process's disposition of SIGPIPE, before
+    // any thread is started.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 fn main() -> ExitCode {
+    die_quietly_on_closed_pipe();
     tracing_subscriber::fmt()
         .with_env_filter(tracing_subscriber::EnvFilter::from_default_env())
         .with_writer(std::io::stderr)
