@@ -1,17 +1,15 @@
-//! HSVI's bounds against an independent oracle: exact value iteration over α-vectors for
-//! two-state POMDPs, where the value function is a convex piecewise-linear function of one number
-//! (the probability of state 1) and pruning is an upper envelope of lines, with no LP.
-//!
-//! The oracle brackets V*(b₀) by `[V_k(b₀), V_k(b₀) + γ δ_k / (1 − γ)]`: value iteration from the
-//! constant `r_min / (1 − γ)` rises monotonically to V*, and a Bellman residual δ_k (the largest
-//! difference of two successive iterates, found exactly at the breakpoints of both) bounds the
-//! distance to the fixed point. The solver's bounds must hold at every budget, converged or not:
+//! HSVI's bounds against an independent oracle for two-state POMDPs, whose beliefs are one
+//! number p = b(state 1): value iteration on a grid over p, with a point-based lower bound and a
+//! grid-interpolation upper bound (see [`oracle::bracket`]). Neither shares code with the solver
+//! beyond the model's tables. The solver's bounds must hold at every budget, converged or not:
 //! `lower ≤ V* ≤ upper`, so `lower ≤ bracket_high` and `upper ≥ bracket_low`.
 //!
 //! These pin the underflow bug that made `avs pomdp solve` report a lower bound above the upper on
 //! tiger at γ ≥ 0.975 (see the avs-pomdp docs, "Bound validity").
 
-use avs_pomdp::{parse_pomdp, simulate, solve, OfflineOptions, Pomdp, PomdpTables};
+mod common;
+
+use avs_pomdp::{simulate, solve, OfflineOptions, Pomdp, PomdpTables};
 use proptest::prelude::*;
 
 /// Value iteration on a grid over the one-dimensional belief simplex of a two-state POMDP.
@@ -149,12 +147,19 @@ mod oracle {
         });
         let mut upper = vec![rmax / (1.0 - g); ps.len()];
         let mut lines = vec![Line::of(rmin / (1.0 - g), rmin / (1.0 - g))];
-        // The maximiser at p on an envelope: the first line whose right crossing is at or past p.
+        // The maximiser at p on an envelope (slopes increasing): the first line whose right
+        // crossing is at or past p, by bisection.
         let best = |lines: &[Line], p: f64| -> usize {
-            let k = (0..lines.len() - 1)
-                .collect::<Vec<_>>()
-                .partition_point(|&k| lines[k].cross(lines[k + 1]) < p);
-            k.min(lines.len() - 1)
+            let (mut lo, mut hi) = (0, lines.len() - 1);
+            while lo < hi {
+                let mid = (lo + hi) / 2;
+                if lines[mid].cross(lines[mid + 1]) < p {
+                    lo = mid + 1;
+                } else {
+                    hi = mid;
+                }
+            }
+            lo
         };
         for _ in 0..max_iterations {
             let low = lines
@@ -218,18 +223,7 @@ mod oracle {
     }
 }
 
-const TIGER: &str = "discount: 0.95\nvalues: reward\nstates: tiger-left tiger-right\n\
-    actions: listen open-left open-right\nobservations: tiger-left tiger-right\nstart: uniform\n\
-    T: listen\nidentity\nT: open-left\nuniform\nT: open-right\nuniform\n\
-    O: listen\n0.85 0.15\n0.15 0.85\nO: open-left\nuniform\nO: open-right\nuniform\n\
-    R: listen : * : * : * -1\n\
-    R: open-left : tiger-left : * : * -100\nR: open-left : tiger-right : * : * 10\n\
-    R: open-right : tiger-left : * : * 10\nR: open-right : tiger-right : * : * -100\n";
-
-fn tiger(discount: f64) -> Pomdp {
-    let text = TIGER.replace("discount: 0.95", &format!("discount: {discount}"));
-    parse_pomdp(&text, "tiger").unwrap()
-}
+use common::tiger;
 
 #[test]
 fn the_oracle_reproduces_tigers_published_value() {

@@ -2,10 +2,8 @@
 
 use avs_pomdp::{parse_pomdp, Pomdp, PomdpError, PomdpTables};
 
-const TIGER: &str = "discount: 0.95\nvalues: reward\nstates: tl tr\nactions: listen ol or\nobservations: hl hr\n\
-start: uniform\nT: listen\nidentity\nT: ol\nuniform\nT: or\nuniform\nO: listen\n0.85 0.15\n0.15 0.85\n\
-O: ol\nuniform\nO: or\nuniform\nR: listen : * : * : * -1\nR: ol : tl : * : * -100\nR: ol : tr : * : * 10\n\
-R: or : tl : * : * 10\nR: or : tr : * : * -100\n";
+mod common;
+use common::TIGER;
 
 #[test]
 fn hearing_the_tiger_twice_on_the_left_follows_bayes_rule() {

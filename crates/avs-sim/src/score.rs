@@ -55,6 +55,15 @@ pub fn geodesic_to_class(world: &World, class: &str, from: [f64; 2]) -> Option<f
         .min_by(f64::total_cmp)
 }
 
+/// Planar distance from a reported position to the nearest true object of `class`, metres
+/// (`None` when the world has none).
+pub fn report_error(world: &World, class: &str, reported: [f64; 2]) -> Option<f64> {
+    world
+        .objects_of_class(class)
+        .map(|t| (reported[0] - t.pose.x).hypot(reported[1] - t.pose.y))
+        .min_by(f64::total_cmp)
+}
+
 /// Score a report (`None` when the agent gave up) after driving `path_length` metres.
 pub fn score(world: &World, class: &str, reported: Option<[f64; 3]>, path_length: f64) -> Score {
     let start = &world.env.robot.start;
@@ -71,12 +80,7 @@ pub fn score_from(
     path_length: f64,
 ) -> Score {
     let shortest = geodesic_to_class(world, class, from);
-    let error = reported.and_then(|r| {
-        world
-            .objects_of_class(class)
-            .map(|t| (r[0] - t.pose.x).hypot(r[1] - t.pose.y))
-            .min_by(f64::total_cmp)
-    });
+    let error = reported.and_then(|r| report_error(world, class, [r[0], r[1]]));
     let found = error.is_some_and(|e| e <= SUCCESS_RADIUS);
     let spl = match (found, shortest) {
         (true, Some(l)) if l.max(path_length) > 0.0 => l / l.max(path_length),

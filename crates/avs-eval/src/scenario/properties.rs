@@ -6,7 +6,7 @@
 use super::ScenarioRun;
 use avs_agent::Event;
 use avs_format::scenario::Scenario;
-use avs_sim::score::SUCCESS_RADIUS;
+use avs_sim::score::{report_error, SUCCESS_RADIUS};
 use avs_sim::World;
 use serde::Serialize;
 
@@ -170,16 +170,11 @@ pub fn evaluate_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<PropertyResu
     // In every scenario: no search reports an object where none of its class is.
     for (goal, rep) in &out.reports {
         if let Some(f) = &rep.found {
-            let best = out
-                .world
-                .objects_of_class(goal)
-                .map(|o| (f.pose.x - o.pose.x).hypot(f.pose.y - o.pose.y))
-                .fold(f64::INFINITY, f64::min);
-            if best > SUCCESS_RADIUS {
-                let off = if best.is_finite() {
-                    format!("{best:.2} m from the nearest true {goal}")
-                } else {
-                    format!("but the world has no {goal}")
+            let error = report_error(&out.world, goal, [f.pose.x, f.pose.y]);
+            if error.is_none_or(|e| e > SUCCESS_RADIUS) {
+                let off = match error {
+                    Some(e) => format!("{e:.2} m from the nearest true {goal}"),
+                    None => format!("but the world has no {goal}"),
                 };
                 bad.push(format!(
                     "the search for {goal} reported {} at ({:.2}, {:.2}), {off}",
@@ -210,14 +205,8 @@ pub fn evaluate_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<PropertyResu
                 "expect.found_within_m: {d}, but nothing was reported"
             )),
             Some(f) => {
-                let best = out
-                    .world
-                    .env
-                    .objects
-                    .iter()
-                    .filter(|o| o.class == sc.goal)
-                    .map(|o| (f.pose.x - o.pose.x).hypot(f.pose.y - o.pose.y))
-                    .fold(f64::INFINITY, f64::min);
+                let best = report_error(&out.world, &sc.goal, [f.pose.x, f.pose.y])
+                    .unwrap_or(f64::INFINITY);
                 if best > d {
                     bad.push(format!(
                         "expect.found_within_m: {d}, but the reported {} at ({:.2}, {:.2}) is \
