@@ -9,7 +9,8 @@ use crate::report::{Activity, PathBreakdown};
 use crate::AgentError;
 use avs_map::nav::shortest_path;
 use avs_map::places::dist;
-use avs_robot::{ActionResult, Camera, Pose2D, Robot, ViewCone, ViewReport};
+use avs_robot::{ActionResult, Camera, PlaceReading, Pose2D, Robot, ViewCone, ViewReport};
+use petgraph::graph::NodeIndex;
 
 /// The robot as the agent drives it.
 pub(crate) struct Body<'r, R: Robot + ?Sized> {
@@ -110,7 +111,9 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
         let grid = self.robot.map_update().grid;
         mem.wm.places.robot_moved(&grid, [p.x, p.y], [p.x, p.y]);
         mem.grid = grid;
-        mem.sync()
+        mem.sync()?;
+        self.classify_here(mem);
+        Ok(())
     }
 
     /// Turn in place so that the laser sees all around, and update the maps.
@@ -125,7 +128,50 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
         let grid = self.robot.map_update().grid;
         mem.wm.places.update(&grid);
         mem.grid = grid;
-        mem.sync()
+        mem.sync()?;
+        self.classify_here(mem);
+        Ok(())
+    }
+
+    /// Run the robot's place classifiers at the place the robot stands on (within
+    /// `tuning.at_place` of it), once per place: the readings, to be filed with
+    /// [`Body::file_place_readings`] once the place has a room (after the next sync). A robot
+    /// without classifiers returns no reading; a failed classification is logged and skipped
+    /// (the room's category then rests on the other evidence).
+    fn read_place(&mut self, mem: &mut Memory) -> Option<(NodeIndex, Vec<PlaceReading>)> {
+        let place = mem.wm.places.current_place()?;
+        let pos = mem.wm.places.graph.node_weight(place)?.pos;
+        if mem.classified.contains(&place) || dist(pos, self.at()) > mem.tuning.at_place {
+            return None;
+        }
+        mem.classified.insert(place);
+        match self.robot.classify_place() {
+            Ok(r) => Some((place, r)),
+            Err(e) => {
+                tracing::debug!(place = place.index(), error = %e, "place classification failed");
+                None
+            }
+        }
+    }
+
+    /// File place readings as soft evidence on the category of each place's room
+    /// (`002` §III). A place in no room (a door place) or a property the knowledge does not
+    /// have is logged and skipped.
+    fn file_place_readings(mem: &mut Memory, readings: Vec<(NodeIndex, Vec<PlaceReading>)>) {
+        for (place, rs) in readings {
+            for r in rs {
+                tracing::debug!(place = place.index(), property = %r.property, value = %r.value, "place property");
+                if let Err(e) = mem.wm.saw_place_property(place, &r.property, &r.likelihood) {
+                    tracing::debug!(place = place.index(), property = %r.property, error = %e, "place reading ignored");
+                }
+            }
+        }
+    }
+
+    /// Classify the place the robot stands on and file the readings (the memory is synced).
+    fn classify_here(&mut self, mem: &mut Memory) {
+        let read = self.read_place(mem);
+        Self::file_place_readings(mem, read.into_iter().collect());
     }
 
     /// Drive to `target` along a path on the known map, updating the place map on the way.
@@ -153,6 +199,7 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
         let detour_factor = mem.tuning.detour_factor;
         let mut result = Ok(());
         let mut prev = [here.x, here.y];
+        let mut readings = Vec::new();
         for w in wps {
             if dist(prev, w) < 1e-6 {
                 continue;
@@ -169,6 +216,7 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
             mem.grid = grid;
             mem.at = [now.x, now.y];
             prev = [now.x, now.y];
+            readings.extend(self.read_place(mem));
             if let Err(e) = r {
                 result = Err(MoveFailure::Robot(e));
                 break;
@@ -179,6 +227,102 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
             }
         }
         mem.sync()?;
+        Self::file_place_readings(mem, readings);
+        self.classify_here(mem);
         Ok(result)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::skills::testing;
+    use crate::AgentConfig;
+    use avs_format::knowledge::Knowledge;
+    use avs_robot::{Call, PlaceReading};
+
+    /// A reading of `property` = `value` from a classifier right with probability `acc`
+    /// (the confusion of the simulated classifier).
+    fn reading(k: &Knowledge, property: &str, value: &str, acc: f64) -> PlaceReading {
+        let prop = k
+            .place_properties
+            .iter()
+            .find(|p| p.name == property)
+            .expect("the shipped knowledge has the property");
+        let n = prop.values.len() as f64;
+        PlaceReading {
+            property: property.into(),
+            value: value.into(),
+            likelihood: prop
+                .values
+                .iter()
+                .map(|v| {
+                    if v == value {
+                        acc
+                    } else {
+                        (1.0 - acc) / (n - 1.0)
+                    }
+                })
+                .collect(),
+        }
+    }
+
+    /// P(category) of the robot's room after a survey and walks to x = 2.5, 4, 5.5 m and back, each place
+    /// classified with the next of `readings`: one value after each classification.
+    fn posterior_along(readings: &[(&str, &str)], category: &str) -> (Vec<f64>, usize) {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        let mut robot = testing::robot(testing::room(7.0, 3.0), [1.0, 1.5]);
+        for &(property, value) in readings {
+            robot.script_place(vec![reading(&k, property, value, 0.8)]);
+        }
+        let mut ps = Vec::new();
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let p = |mem: &Memory| {
+            let room = mem.current_room().expect("the robot stands in a room");
+            mem.wm.concepts.p_category(room, category).unwrap()
+        };
+        ps.push(p(&mem));
+        let mut body = Body::new(&mut robot);
+        for x in [2.5, 4.0, 5.5, 1.0] {
+            body.go_to(&mut mem, [x, 1.5]).unwrap().unwrap();
+            ps.push(p(&mem));
+        }
+        let calls = robot
+            .calls()
+            .iter()
+            .filter(|c| **c == Call::ClassifyPlace)
+            .count();
+        (ps, calls)
+    }
+
+    #[test]
+    fn a_room_with_no_object_seen_is_classified_from_its_place_properties() {
+        let prior = posterior_along(&[], "kitchen").0;
+        // With no reading, nothing moves the room's category.
+        assert!(
+            prior.windows(2).all(|w| (w[0] - w[1]).abs() < 1e-9),
+            "{prior:?}"
+        );
+        let kitchen_like = [("appearance", "kitchen_like"); 4];
+        let (up, calls) = posterior_along(&kitchen_like, "kitchen");
+        // Each kitchen-like place raises P(kitchen) (office.yaml: P(kitchen_like | kitchen)
+        // = 0.5 against 0.1 and 0.2 for the other categories).
+        for w in up[..4].windows(2) {
+            assert!(w[1] > w[0] + 0.01, "P(kitchen) along the walk: {up:?}");
+        }
+        assert!(up[3] > prior[3] + 0.2, "{up:?} vs {prior:?}");
+        // Back at the first place: classified once per place, nothing new.
+        assert_eq!(calls, 4, "one classification per place");
+        assert!((up[4] - up[3]).abs() < 1e-9, "{up:?}");
+        let office_like = [("appearance", "office_like"); 4];
+        let (down, _) = posterior_along(&office_like, "kitchen");
+        for w in down[..4].windows(2) {
+            assert!(w[1] < w[0], "P(kitchen) along the walk: {down:?}");
+        }
+        let (office, _) = posterior_along(&office_like, "office");
+        assert!(
+            office[3] > posterior_along(&[], "office").0[3] + 0.1,
+            "{office:?}"
+        );
     }
 }

@@ -71,6 +71,12 @@ pub enum Strategy {
     Uninformed,
     /// Nearest-frontier exploration, searching each room as it is found.
     Frontier,
+    /// A reference, not a method: told which room holds the target ([`Goal::in_region`](crate::Goal::in_region),
+    /// the room's floor and nothing else), it explores towards that room, covers it as the
+    /// uninformed strategy covers a room, and falls back to the uninformed coverage if the
+    /// target is not there. Its path is what a searcher who knew the room would drive: an upper
+    /// reference for the others that is not the straight line of SPL.
+    Informed,
 }
 
 impl std::str::FromStr for Strategy {
@@ -80,8 +86,9 @@ impl std::str::FromStr for Strategy {
             "planner" => Ok(Self::Planner),
             "uninformed" => Ok(Self::Uninformed),
             "frontier" => Ok(Self::Frontier),
+            "informed" => Ok(Self::Informed),
             _ => Err(format!(
-                "unknown strategy `{s}`; expected planner, uninformed or frontier"
+                "unknown strategy `{s}`; expected planner, uninformed, frontier or informed"
             )),
         }
     }
@@ -93,6 +100,7 @@ impl std::fmt::Display for Strategy {
             Self::Planner => "planner",
             Self::Uninformed => "uninformed",
             Self::Frontier => "frontier",
+            Self::Informed => "informed",
         })
     }
 }

@@ -98,6 +98,16 @@ impl Agent {
                     .join(", "),
             });
         }
+        if self.config.strategy == Strategy::Informed
+            && (goal.region.is_empty() || goal.region.iter().flatten().any(|x| !x.is_finite()))
+        {
+            return Err(AgentError::Config {
+                field: "strategy",
+                value: goal.region.len() as f64,
+                expected: "a goal told its room (Goal::in_region with finite points) for the \
+                           informed strategy",
+            });
+        }
         let mut body = Body::new(robot);
         let start_odo = body.odometry();
         let mut run = Run::new(sink, self.config.tuning.cover_key_resolution);

@@ -7,10 +7,13 @@ use avs_robot::Point3;
 use serde::Serialize;
 
 /// A search goal: find an object of a class and report its position.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Goal {
     /// The object class.
     pub class: String,
+    /// Points (metres, world frame) on the floor of the room that holds the target, for the
+    /// [`Strategy::Informed`](crate::Strategy::Informed) reference; empty when not told.
+    pub region: Vec<[f64; 2]>,
 }
 
 impl Goal {
@@ -18,7 +21,15 @@ impl Goal {
     pub fn find(class: &str) -> Self {
         Self {
             class: class.to_string(),
+            region: Vec::new(),
         }
+    }
+
+    /// The same goal, told that the target lies in the room whose floor holds `points` (for
+    /// the informed reference strategy; the other strategies ignore it).
+    pub fn in_region(mut self, points: Vec<[f64; 2]>) -> Self {
+        self.region = points;
+        self
     }
 }
 

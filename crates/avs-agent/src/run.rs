@@ -9,6 +9,15 @@ use std::collections::BTreeSet;
 /// The key of a point in the set of covered points: the point on a grid of `res` metres.
 pub(crate) type PointKey = (i64, i64, i64);
 
+/// The key of point `p` on a grid of `res` metres: the one rounding of points to keys.
+pub(crate) fn point_key(res: f64, p: [f64; 3]) -> PointKey {
+    (
+        (p[0] / res).round() as i64,
+        (p[1] / res).round() as i64,
+        (p[2] / res).round() as i64,
+    )
+}
+
 /// One search in progress.
 pub(crate) struct Run<'s> {
     pub events: Vec<Event>,
@@ -39,12 +48,7 @@ impl<'s> Run<'s> {
 
     /// The key of a point in [`Run::covered`].
     pub fn key(&self, p: [f64; 3]) -> PointKey {
-        let r = self.key_res;
-        (
-            (p[0] / r).round() as i64,
-            (p[1] / r).round() as i64,
-            (p[2] / r).round() as i64,
-        )
+        point_key(self.key_res, p)
     }
 
     /// Mark `points` covered.

@@ -223,6 +223,26 @@ impl WorldModel {
         )?)
     }
 
+    /// A place classifier read `property` at `place`: `likelihood[v]` = P(reading | value v),
+    /// soft evidence on the room's category through the knowledge's `place_properties`
+    /// (`002` §III, the property variables of the chain graph).
+    pub fn saw_place_property(
+        &mut self,
+        place: NodeIndex,
+        property: &str,
+        likelihood: &[f64],
+    ) -> Result<(), WorldModelError> {
+        let room = self
+            .room_of(place)
+            .ok_or(WorldModelError::PlaceNotInRoom(place.index()))?;
+        Ok(self.concepts.observe_property_soft(
+            room,
+            PlaceId(place.index() as u64),
+            property,
+            likelihood,
+        )?)
+    }
+
     /// A landmark of `class` was found from `place`: it becomes a location for in/on searches.
     pub fn found_landmark(
         &mut self,

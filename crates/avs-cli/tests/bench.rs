@@ -117,7 +117,7 @@ fn unknown_strategy_and_goal_are_errors_naming_what_is_expected() {
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.contains("planner, uninformed or frontier"),
+        err.contains("planner, uninformed, frontier or informed"),
         "stderr: {err}"
     );
     let out = avs(&["bench", "--generate", "1", "--goal", "unicorn"]);

@@ -36,6 +36,8 @@ pub struct BenchParams {
     pub goal: Option<String>,
     /// Write each floor's environment to `DIR/floor-SEED.yaml`.
     pub save_floors: Option<PathBuf>,
+    /// Whether the simulated robot has its place classifier (off by default).
+    pub place_classifier: bool,
 }
 
 /// One floor's run.
@@ -185,6 +187,7 @@ pub fn bench(
                 config: config.clone(),
                 before: &[],
                 faults: Faults::default(),
+                place_classifier: p.place_classifier,
             };
             let out = run_episode(&world, &spec, &mut |_| {})
                 .map_err(|e| EvalError::Sim(format!("floor {s}: {e}")))?;

@@ -3,11 +3,11 @@
 
 use crate::stats::median;
 use crate::EvalError;
-use avs_agent::{Agent, AgentConfig, Event, Goal, PathBreakdown, SearchReport};
+use avs_agent::{Agent, AgentConfig, Event, Goal, PathBreakdown, SearchReport, Strategy};
 use avs_format::knowledge::Knowledge;
 use avs_plan::domain::Domain;
 use avs_sim::robot::DoorEvent;
-use avs_sim::score::{geodesic_to_class, score_from};
+use avs_sim::score::{geodesic_to_class, score_from, target_room_floor};
 use avs_sim::sim_robot::{SimAgentRobot, SimRobotConfig};
 use avs_sim::World;
 use serde::Serialize;
@@ -154,6 +154,9 @@ pub struct EpisodeSpec<'a> {
     /// Classes the same agent searches for first, in order (its memory carries over); the
     /// summary is the goal's search.
     pub before: &'a [String],
+    /// Whether the simulated robot has its place classifier
+    /// (`avs_sim::place_classifier`; off by default).
+    pub place_classifier: bool,
 }
 
 /// One search in `world` as `spec` says; `on_event` sees every trace event as it happens. The
@@ -163,13 +166,10 @@ pub fn run_episode(
     spec: &EpisodeSpec,
     on_event: &mut dyn FnMut(&Event),
 ) -> Result<Episode, EvalError> {
-    let mut robot = SimAgentRobot::new(
-        world,
-        spec.knowledge.clone(),
-        spec.faults.robot_config(),
-        spec.seed,
-    )
-    .map_err(|e| EvalError::Sim(format!("simulated robot: {e}")))?;
+    let mut robot_config = spec.faults.robot_config();
+    robot_config.place_classifier.enabled = spec.place_classifier;
+    let mut robot = SimAgentRobot::new(world, spec.knowledge.clone(), robot_config, spec.seed)
+        .map_err(|e| EvalError::Sim(format!("simulated robot: {e}")))?;
     let mut agent = Agent::new(
         spec.domain.clone(),
         spec.knowledge.clone(),
@@ -182,7 +182,20 @@ pub fn run_episode(
     let origin = [world.env.robot.start.x, world.env.robot.start.y];
     let goal_from = robot.trail().len().saturating_sub(1);
     let start = robot.trail().last().copied().unwrap_or(origin);
-    let report = agent.search_with(&mut robot, Goal::find(spec.goal), &mut sink)?;
+    let mut goal = Goal::find(spec.goal);
+    if spec.config.strategy == Strategy::Informed {
+        // The informed reference is told the target's room (its floor) and nothing else.
+        let mut region = target_room_floor(world, spec.goal, start, 0.5);
+        if region.is_empty() {
+            // No object of the class is reachable: told where they are.
+            region = world
+                .objects_of_class(spec.goal)
+                .map(|o| [o.pose.x, o.pose.y])
+                .collect();
+        }
+        goal = goal.in_region(region);
+    }
+    let report = agent.search_with(&mut robot, goal, &mut sink)?;
     // Scoring against ground truth (the agent never saw it).
     let reported = report
         .found

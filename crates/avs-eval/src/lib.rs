@@ -30,6 +30,7 @@
 //!     config: avs_agent::AgentConfig::default(),
 //!     faults: Faults::default(),
 //!     before: &[],
+//!     place_classifier: false,
 //! };
 //! let episode = run_episode(&world, &spec, &mut |_| {}).unwrap();
 //! assert!(episode.summary.found && episode.summary.spl > 0.0);

@@ -375,3 +375,69 @@ fn bad_session_settings_are_errors_naming_the_field() {
     });
     assert!(e.contains("session_rewards.found"), "{e}");
 }
+
+#[test]
+fn the_informed_reference_covers_the_room_it_was_told_first_and_beats_the_uninformed_path() {
+    use avs_agent::Strategy;
+    use avs_eval::episode::{run_episode, EpisodeSpec, Faults};
+    let world = World::load(&shipped("domains/environments/office.yaml")).unwrap();
+    let (k, d) = (knowledge(), domain());
+    let run = |strategy: Strategy| {
+        let spec = EpisodeSpec {
+            knowledge: &k,
+            domain: &d,
+            goal: "cerealbox",
+            seed: 1,
+            config: AgentConfig {
+                strategy,
+                ..AgentConfig::default()
+            },
+            faults: Faults::default(),
+            before: &[],
+            place_classifier: false,
+        };
+        // Where the first coverage view was taken (the robot's pose after it).
+        let mut first_view: Option<[f64; 3]> = None;
+        let out = run_episode(&world, &spec, &mut |e: &Event| {
+            if let Event::ActionFinished { action, pose, .. } = e {
+                if action.starts_with("PROCESSVIEWCONE") && first_view.is_none() {
+                    first_view = Some(*pose);
+                }
+            }
+        })
+        .unwrap();
+        (out.summary, first_view)
+    };
+    let (informed, first) = run(Strategy::Informed);
+    let (uninformed, _) = run(Strategy::Uninformed);
+    assert!(informed.found, "{informed:?}");
+    // The kitchen holds the cerealbox: the informed reference's first view is taken there
+    // (the uninformed strategy covers the corridor it starts in first).
+    let [x, y, _] = first.expect("the informed reference took a view");
+    let room = world
+        .room_at(x, y)
+        .map(|r| world.env.rooms[r].name.as_str());
+    assert_eq!(room, Some("kitchen"), "first view at ({x:.2}, {y:.2})");
+    assert!(
+        informed.path_length < uninformed.path_length,
+        "informed {} m, uninformed {} m",
+        informed.path_length,
+        uninformed.path_length
+    );
+}
+
+#[test]
+fn the_informed_strategy_without_a_told_room_is_an_error_naming_it() {
+    let world = World::load(&shipped("domains/environments/office.yaml")).unwrap();
+    let mut robot = SimAgentRobot::new(&world, knowledge(), SimRobotConfig::default(), 1).unwrap();
+    let config = AgentConfig {
+        strategy: avs_agent::Strategy::Informed,
+        ..AgentConfig::default()
+    };
+    let mut agent = Agent::new(domain(), knowledge(), config).unwrap();
+    let e = agent
+        .search(&mut robot, Goal::find("cerealbox"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("strategy") && e.contains("in_region"), "{e}");
+}

@@ -190,6 +190,23 @@ pub struct MapUpdate {
     pub newly_known: usize,
 }
 
+/// One reading of a place classifier (the size, shape and appearance classifiers of Pronobis
+/// et al., ref. \[12\] of Aydemir et al. 2011, `002` §III) at the place the robot stands on.
+///
+/// A classifier is not right every time, so a reading is *soft evidence*: for every value
+/// of the property (in the order of the knowledge file's `place_properties[].values`), the
+/// likelihood P(this output | the place's value is that value), from the classifier's
+/// confusion. Only ratios matter.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PlaceReading {
+    /// The property classified (a `place_properties[].name` of the knowledge file).
+    pub property: String,
+    /// The value the classifier output (one of the property's values).
+    pub value: String,
+    /// P(output | value v) for every value v of the property, in the knowledge file's order.
+    pub likelihood: Vec<f64>,
+}
+
 /// Why an action failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -252,6 +269,13 @@ pub trait Robot {
         cone: &ViewCone,
         classes: &[String],
     ) -> ActionResult<ViewReport>;
+
+    /// Run the place classifiers at the robot's current pose: one reading per property the
+    /// robot can classify. A robot without place classifiers returns none (the default), and
+    /// room categories then come from objects alone.
+    fn classify_place(&mut self) -> ActionResult<Vec<PlaceReading>> {
+        Ok(Vec::new())
+    }
 }
 
 #[cfg(test)]

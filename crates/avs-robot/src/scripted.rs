@@ -4,8 +4,8 @@
 //! without the simulator.
 
 use crate::{
-    ActionFailure, ActionResult, Camera, Detection, MapUpdate, MoveReport, Pose2D, Robot, ViewCone,
-    ViewReport,
+    ActionFailure, ActionResult, Camera, Detection, MapUpdate, MoveReport, PlaceReading, Pose2D,
+    Robot, ViewCone, ViewReport,
 };
 use avs_map::grid::{Cell, OccupancyGrid};
 use std::collections::VecDeque;
@@ -19,6 +19,8 @@ pub enum Call {
     MapUpdate,
     /// `process_view_cone(cone, classes)`.
     View(ViewCone, Vec<String>),
+    /// `classify_place()`.
+    ClassifyPlace,
 }
 
 /// A scripted robot: the map is what the test gives ([`ScriptedRobot::set_grid`]), motion goes
@@ -38,6 +40,7 @@ pub struct ScriptedRobot {
     known_reported: usize,
     moves: VecDeque<ActionFailure>,
     views: VecDeque<ActionResult<Vec<Detection>>>,
+    places: VecDeque<Vec<PlaceReading>>,
     objects: Vec<Detection>,
     calls: Vec<Call>,
     laser: Option<(OccupancyGrid, f64)>,
@@ -54,6 +57,7 @@ impl ScriptedRobot {
             known_reported: 0,
             moves: VecDeque::new(),
             views: VecDeque::new(),
+            places: VecDeque::new(),
             objects: Vec::new(),
             calls: Vec::new(),
             laser: None,
@@ -104,6 +108,12 @@ impl ScriptedRobot {
     /// the scripted ones see the placed objects.
     pub fn script_view(&mut self, reply: ActionResult<Vec<Detection>>) {
         self.views.push_back(reply);
+    }
+
+    /// The readings of the next place classification; queued in order. Classifications
+    /// beyond the scripted ones read nothing.
+    pub fn script_place(&mut self, readings: Vec<PlaceReading>) {
+        self.places.push_back(readings);
     }
 
     /// An object every view sees while its position lies inside the image, reported as given.
@@ -205,6 +215,11 @@ impl Robot for ScriptedRobot {
             detections,
             travelled,
         })
+    }
+
+    fn classify_place(&mut self) -> ActionResult<Vec<PlaceReading>> {
+        self.calls.push(Call::ClassifyPlace);
+        Ok(self.places.pop_front().unwrap_or_default())
     }
 }
 

@@ -28,6 +28,7 @@
 pub mod check;
 pub mod explore;
 pub mod generate;
+pub mod place_classifier;
 pub mod render;
 pub mod robot;
 pub mod score;

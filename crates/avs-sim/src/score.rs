@@ -55,6 +55,49 @@ pub fn geodesic_to_class(world: &World, class: &str, from: [f64; 2]) -> Option<f
         .min_by(f64::total_cmp)
 }
 
+/// The floor of the room that holds the object of `class` nearest `from` by a collision-free
+/// path: the room's free cells of the true map (furniture excluded), one every `spacing`
+/// metres, as points. What the informed reference strategy is told (and nothing else). An
+/// object outside every labelled room gives its own position; none reachable gives none.
+pub fn target_room_floor(
+    world: &World,
+    class: &str,
+    from: [f64; 2],
+    spacing: f64,
+) -> Vec<[f64; 2]> {
+    let trav = Traversability::new(&world.truth, world.env.robot.radius, false);
+    let Some(target) = world
+        .objects_of_class(class)
+        .filter_map(|o| {
+            shortest_path(&trav, from, [o.pose.x, o.pose.y], 1.5).map(|p| (o, p.length))
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(o, _)| [o.pose.x, o.pose.y])
+    else {
+        return Vec::new();
+    };
+    let Some(room) = world.room_at(target[0], target[1]) else {
+        return vec![target];
+    };
+    let g = &world.truth;
+    let step = ((spacing / g.resolution()).round() as usize).max(1);
+    let mut points = Vec::new();
+    for row in (0..g.height()).step_by(step) {
+        for col in (0..g.width()).step_by(step) {
+            if world.room_of_cell[g.index(col, row)] == Some(room)
+                && g.get(col, row) == avs_map::grid::Cell::Free
+            {
+                let (x, y) = g.cell_center(col as i64, row as i64);
+                points.push([x, y]);
+            }
+        }
+    }
+    if points.is_empty() {
+        points.push(target);
+    }
+    points
+}
+
 /// Planar distance from a reported position to the nearest true object of `class`, metres
 /// (`None` when the world has none).
 pub fn report_error(world: &World, class: &str, reported: [f64; 2]) -> Option<f64> {

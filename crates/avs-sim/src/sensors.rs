@@ -100,7 +100,7 @@ impl Default for DetectorConfig {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SensorError {
     /// A configuration field is out of range.
-    #[error("detector config field `{field}` = {value}: expected {expected}")]
+    #[error("robot config field `{field}` = {value}: expected {expected}")]
     Config {
         /// The field.
         field: &'static str,

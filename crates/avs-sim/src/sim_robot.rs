@@ -67,6 +67,7 @@
 //! assert!(robot.process_view_cone(&view, &["unicorn".to_string()]).is_err());
 //! ```
 
+use crate::place_classifier::{PlaceClassifier, PlaceClassifierConfig};
 pub use crate::robot::DoorEvent;
 use crate::robot::SimRobot;
 use crate::sensors::{Detector, DetectorConfig, SensorError};
@@ -74,8 +75,8 @@ use crate::world::{CameraView, SimError, World};
 use avs_format::knowledge::Knowledge;
 use avs_map::grid::Cell;
 use avs_robot::{
-    ActionFailure, ActionResult, Camera, FailureReason, MapUpdate, MoveReport, Pose2D, Robot,
-    ViewCone, ViewReport,
+    ActionFailure, ActionResult, Camera, FailureReason, MapUpdate, MoveReport, PlaceReading,
+    Pose2D, Robot, ViewCone, ViewReport,
 };
 use rand::Rng;
 
@@ -97,6 +98,8 @@ pub struct SimRobotConfig {
     pub failures: FailureRates,
     /// Doors that open or close during the run (see the module docs).
     pub door_events: Vec<DoorEvent>,
+    /// The place classifier (size, shape, appearance; module `place_classifier`).
+    pub place_classifier: PlaceClassifierConfig,
 }
 
 /// How far from the requested view pose the robot may be and still take the view there, m.
@@ -108,6 +111,7 @@ pub struct SimAgentRobot<'w> {
     world: &'w World,
     sim: SimRobot<'w>,
     detector: Detector,
+    classifier: PlaceClassifier,
     failures: FailureRates,
     known_cells: usize,
     relabelled: usize,
@@ -135,6 +139,7 @@ impl<'w> SimAgentRobot<'w> {
                 });
             }
         }
+        let classifier = PlaceClassifier::new(&knowledge, config.place_classifier, seed)?;
         let detector = Detector::new(knowledge, config.detector)?;
         let sim =
             SimRobot::with_door_events(world, seed, &config.door_events).map_err(|e| match e {
@@ -149,6 +154,7 @@ impl<'w> SimAgentRobot<'w> {
             world,
             sim,
             detector,
+            classifier,
             failures: config.failures,
             known_cells: 0,
             relabelled: 0,
@@ -329,5 +335,10 @@ impl Robot for SimAgentRobot<'_> {
             detections,
             travelled,
         })
+    }
+
+    fn classify_place(&mut self) -> ActionResult<Vec<PlaceReading>> {
+        let p = self.sim.pose;
+        Ok(self.classifier.classify(self.world, p[0], p[1]))
     }
 }

@@ -8,6 +8,7 @@
 mod sync;
 
 use crate::config::Tuning;
+use crate::run::PointKey;
 use crate::world_model::WorldModel;
 use avs_concepts::{LandmarkId, RoomId};
 use avs_format::knowledge::Knowledge;
@@ -56,7 +57,7 @@ pub(crate) struct ConeSet {
     pub views: Vec<PlannedView>,
     /// The location's points the cones were planned for.
     pub points: Vec<[f64; 3]>,
-    /// The points each cone covers (disjoint: each point to its first cone).
+    /// The points each cone covers (cones overlap: a point may be in several).
     pub cells: Vec<Vec<usize>>,
     pub n_points: usize,
     pub covered_share: f64,
@@ -90,6 +91,14 @@ pub(crate) struct Memory {
     pub objects: Vec<Known>,
     /// Rooms looked around in.
     pub looked: BTreeSet<u64>,
+    /// Per class, the looks so far at each point (by [`Memory::point_key`]): how many
+    /// processed view cones of the plan's searches held it. A look is a look wherever the
+    /// search was (a room, a landmark's top): kept across sessions and searches, it weighs
+    /// the next session's prior by `(1 − p_d)^looks` and thins the location's rate by what
+    /// the looks removed (module `skills::session`).
+    pub looks: BTreeMap<String, BTreeMap<PointKey, u32>>,
+    /// Places whose properties were classified (once per place).
+    pub classified: BTreeSet<NodeIndex>,
     pub cones: BTreeMap<(String, ConeLoc), ConeSet>,
     /// (object, class): searched on without success.
     pub exhausted: BTreeSet<(usize, String)>,
@@ -183,6 +192,8 @@ impl Memory {
             next_ph: 0,
             objects: Vec::new(),
             looked: BTreeSet::new(),
+            classified: BTreeSet::new(),
+            looks: BTreeMap::new(),
             cones: BTreeMap::new(),
             exhausted: BTreeSet::new(),
             stalled: BTreeMap::new(),
@@ -197,6 +208,20 @@ impl Memory {
             robot_radius,
             tuning,
         }
+    }
+
+    /// The key of a point in [`Memory::looks`] (on the grid of `tuning.cover_key_resolution`).
+    pub fn point_key(&self, p: [f64; 3]) -> PointKey {
+        crate::run::point_key(self.tuning.cover_key_resolution, p)
+    }
+
+    /// The looks so far at point `p` in searches for `class`.
+    pub fn looks_at(&self, class: &str, p: [f64; 3]) -> u32 {
+        self.looks
+            .get(class)
+            .and_then(|l| l.get(&self.point_key(p)))
+            .copied()
+            .unwrap_or(0)
     }
 
     /// The place the robot is at, or (a door place) the nearest place with a room.

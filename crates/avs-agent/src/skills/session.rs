@@ -4,14 +4,14 @@
 //! sighting is verified ([`super::verify`]); a search in vain thins the location's rate by
 //! what was looked at.
 
-use super::views::{create_cones, view_text};
+use super::views::{create_cones, location_points, view_text};
 use super::{verify::verify, Ctx};
 use crate::binding::{names, ObjArg};
 use crate::body::Body;
-use crate::memory::{ConeLoc, Known, Memory};
+use crate::memory::{ConeLoc, ConeSet, Known, Memory};
 use crate::reason::ReplanReason;
 use crate::report::{Activity, FoundObject, Goal};
-use crate::run::{Run, StepEnd};
+use crate::run::{PointKey, Run, StepEnd};
 use crate::trace::{Event, SessionOutcome, View};
 use crate::AgentError;
 use avs_concepts::{Location, RoomId};
@@ -87,17 +87,21 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
     let mut outcome: Option<Detection> = None;
     let mut unconfirmed: Option<usize> = None;
     let mut steps = 0;
-    let mut looked_share = 0.0;
+    // The cones processed, once per look.
+    let mut processed: Vec<usize> = Vec::new();
     if !set.views.is_empty() {
         // The prior is spread over the points the cones cover: the plan assumes the object
         // is in the location where a search finds it. Over all points, a room whose cones
         // covered 40% put 60% of the object in places no look can reach, the session
         // declared "absent" after one look, the rate was hardly thinned, and the planner
         // sent the robot to the same session again until its plan budget ran out.
+        // Within them, a point already looked at `n` times in vain holds the object with
+        // weight (1 − p_d)^n (Bayes over independent looks; 1 for a point never looked at).
+        let miss = cx.knowledge.sensor.false_negative;
         let mut weights = vec![0.0; set.n_points];
         for &i in set.cells.iter().flatten() {
             if let Some(w) = weights.get_mut(i) {
-                *w = 1.0;
+                *w = miss.powi(mem.looks_at(label, set.points[i]) as i32);
             }
         }
         let prior = cone_priors(&set.cells, &weights, p_loc.clamp(0.0, 1.0));
@@ -141,7 +145,6 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
             }
         };
         let mut best: Vec<Option<Detection>> = vec![None; set.views.len()];
-        let mut seen_points: BTreeSet<usize> = BTreeSet::new();
         for _ in 0..t.max_dt_steps {
             let t0 = Instant::now();
             let a = session.next_action();
@@ -149,7 +152,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
             match a {
                 Ok(ViewConeAction::Process { cone }) => {
                     let v = &set.views[cone];
-                    seen_points.extend(set.cells[cone].iter().copied());
+                    processed.push(cone);
                     if matches!(loc, ConeLoc::Room(_)) && label == goal.class {
                         run.cover(set.cells[cone].iter().map(|&k| set.points[k]));
                     }
@@ -240,13 +243,11 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
             }
         }
         mem.sync()?;
-        looked_share = if steps == 0 {
-            // Declared absent without looking: the DT planner's judgement covers the
-            // whole location its cones cover.
-            set.covered_share
-        } else {
-            seen_points.len() as f64 / set.n_points.max(1) as f64
-        };
+        if steps == 0 {
+            // Declared absent without looking: the DT planner's judgement stands for one
+            // look through each of its cones.
+            processed = (0..set.views.len()).collect();
+        }
     }
     run.emit(Event::DtSessionEnded {
         outcome: match (&outcome, unconfirmed) {
@@ -321,8 +322,6 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
             }))
         }
         None => {
-            // Thinning by what was looked at: the processed cones' share of the location.
-            let q = ((1.0 - cx.knowledge.sensor.false_negative) * looked_share).clamp(0.0, 0.99);
             // The place map may have re-drawn the rooms while the robot moved between the
             // cones (a door found or lost): the searched room is then the room that holds
             // most of the searched points now.
@@ -335,6 +334,9 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                 }
                 l => l,
             };
+            let q = record_looks(cx, mem, label, loc, location, &set, &processed);
+            // The next search here plans its cones afresh, for what these did not see.
+            mem.cones.remove(&(label.to_string(), loc));
             if q > 0.0 {
                 mem.wm.concepts.mark_searched(location, label, q)?;
             } else if let Location::Room(RoomId(r)) = location {
@@ -368,6 +370,61 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
             }
             Ok(StepEnd::Replan(why))
         }
+    }
+}
+
+/// Record one look at every point of the processed cones (`processed`; a point once per
+/// session however many of them held it) in [`Memory::looks`], and return the share `q` of the location's rate the looks removed:
+/// with every point of the location weighted `(1 − p_d)^looks` (a point's chance to hold the
+/// object after that many misses, the rate being spread evenly over the points before any
+/// look), `q = 1 − Σ w_after / Σ w_before` over the location's points now. For a first
+/// search this is `p_d` × the share of the points looked at, the thinning of eq. 1 by the
+/// looked-at cells (`002` §III-A); a second session's look at the same points removes less,
+/// as it should, since they were likely empty already.
+fn record_looks(
+    cx: Ctx,
+    mem: &mut Memory,
+    label: &str,
+    loc: ConeLoc,
+    location: Location,
+    set: &ConeSet,
+    processed: &[usize],
+) -> f64 {
+    let miss = cx.knowledge.sensor.false_negative;
+    let Some(class) = cx.knowledge.class(label) else {
+        return 0.0;
+    };
+    let points = match (loc, location) {
+        (ConeLoc::Room(_), Location::Room(RoomId(r))) => {
+            location_points(cx, mem, class, ConeLoc::Room(r))
+        }
+        _ => location_points(cx, mem, class, loc),
+    };
+    let weight = |mem: &Memory| -> f64 {
+        points
+            .iter()
+            .map(|&p| miss.powi(mem.looks_at(label, p) as i32))
+            .sum()
+    };
+    let before = weight(mem);
+    // One look per point per session: overlapping cones, and the same cone processed again,
+    // look from nearly the same place, and a detector's misses from one vantage are not
+    // independent (Velez et al., `000`), so they count once.
+    let keys: BTreeSet<PointKey> = processed
+        .iter()
+        .flat_map(|&c| set.cells.get(c).into_iter().flatten())
+        .filter_map(|&i| set.points.get(i))
+        .map(|&p| mem.point_key(p))
+        .collect();
+    let looks = mem.looks.entry(label.to_string()).or_default();
+    for k in keys {
+        *looks.entry(k).or_default() += 1;
+    }
+    let after = weight(mem);
+    if before > 0.0 {
+        (1.0 - after / before).clamp(0.0, 0.99)
+    } else {
+        0.0
     }
 }
 
@@ -450,6 +507,131 @@ mod tests {
         .unwrap();
         let text = testing::text(&run);
         (end, mem, text)
+    }
+
+    /// A search for a cereal box in the room the robot stands in, over `mem`.
+    fn search_again(
+        config: &AgentConfig,
+        k: &avs_format::knowledge::Knowledge,
+        robot: &mut avs_robot::ScriptedRobot,
+        mem: &mut Memory,
+    ) -> StepEnd {
+        let room = mem.current_room().expect("a room");
+        let mut sink = testing::sink();
+        let mut run = testing::run(&mut sink);
+        let cx = Ctx {
+            knowledge: k,
+            config,
+        };
+        let obj = ObjArg {
+            name: "new-object1".into(),
+            assumed: true,
+        };
+        let display = format!("SEARCHFOROBJECT cerealbox IN {}", names::room(room));
+        let search = Search {
+            label: "cerealbox",
+            loc: ConeLoc::Room(room.0),
+            obj: &obj,
+            display: &display,
+            assumption: None,
+        };
+        dt_search(
+            cx,
+            mem,
+            &mut Body::new(robot),
+            &mut run,
+            &search,
+            &Goal::find("cerealbox"),
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn a_second_search_of_a_large_room_looks_where_the_first_did_not() {
+        let k = testing::knowledge();
+        // Two cones per search: the first cannot cover a 14 m room.
+        let config = AgentConfig {
+            max_cones: 2,
+            ..AgentConfig::default()
+        };
+        let mut robot = testing::robot(testing::room(14.0, 3.0), [1.0, 1.5]);
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let looked = |mem: &Memory| mem.looks.get("cerealbox").map_or(0, |l| l.len());
+        let end = search_again(&config, &k, &mut robot, &mut mem);
+        assert!(matches!(
+            end,
+            StepEnd::Replan(ReplanReason::SearchedInVain { .. })
+        ));
+        let first = looked(&mem);
+        assert!(first > 0, "the first search looked at nothing");
+        // The cones of a search in vain are dropped; the next are planned for the rest.
+        assert!(mem.cones.is_empty());
+        let room = mem.current_room().unwrap();
+        let cx = Ctx {
+            knowledge: &k,
+            config: &config,
+        };
+        let mut sink = testing::sink();
+        let mut run = testing::run(&mut sink);
+        create_cones(
+            cx,
+            &mut mem,
+            &robot.camera(),
+            &mut run,
+            "cerealbox",
+            ConeLoc::Room(room.0),
+        );
+        let set = &mem.cones[&("cerealbox".to_string(), ConeLoc::Room(room.0))];
+        assert!(!set.views.is_empty());
+        assert!(
+            set.points
+                .iter()
+                .all(|&p| mem.looks_at("cerealbox", p) == 0),
+            "the second cones are planned for points already looked at"
+        );
+        assert!(testing::text(&run).contains("not looked at yet"));
+        let StepEnd::Replan(ReplanReason::SearchedInVain { before, after, .. }) =
+            search_again(&config, &k, &mut robot, &mut mem)
+        else {
+            panic!("the second search did not end in vain");
+        };
+        assert!(
+            looked(&mem) > first,
+            "the second search looked at nothing new"
+        );
+        assert!(after < before);
+    }
+
+    #[test]
+    fn looking_again_at_the_same_points_thins_less_than_the_first_look() {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let room = mem.current_room().unwrap();
+        let loc = ConeLoc::Room(room.0);
+        let cx = Ctx {
+            knowledge: &k,
+            config: &config,
+        };
+        let mut sink = testing::sink();
+        let mut run = testing::run(&mut sink);
+        create_cones(cx, &mut mem, &robot.camera(), &mut run, "cerealbox", loc);
+        let set = mem.cones[&("cerealbox".to_string(), loc)].clone();
+        let all: Vec<usize> = (0..set.views.len()).collect();
+        let location = Location::Room(room);
+        let q1 = record_looks(cx, &mut mem, "cerealbox", loc, location, &set, &all);
+        // A first session thins by p_d times the share of the points it looked at (eq. 1
+        // thinned by the looked-at cells), each point once however many cones held it.
+        let p_d = 1.0 - k.sensor.false_negative;
+        let n = location_points(cx, &mem, k.class("cerealbox").unwrap(), loc).len();
+        let seen: BTreeSet<usize> = set.cells.iter().flatten().copied().collect();
+        assert!(
+            (q1 - p_d * seen.len() as f64 / n as f64).abs() < 1e-9,
+            "{q1}: {} of {n} points",
+            seen.len()
+        );
+        let q2 = record_looks(cx, &mut mem, "cerealbox", loc, location, &set, &all);
+        assert!(q2 > 0.0 && q2 < q1, "{q1} then {q2}");
     }
 
     #[test]

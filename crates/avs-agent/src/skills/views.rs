@@ -17,7 +17,11 @@ use avs_view::{
 use std::collections::BTreeSet;
 
 /// CREATEVIEWCONES for `label` at `loc` (unzoomed, as the paper plans them): the cones are
-/// kept in memory for the session that follows.
+/// kept in memory for the session that follows. Where earlier searches for `label` looked
+/// ([`Memory::looks`]), the cones are planned for the location's points not looked at yet, so
+/// that a second search of a large room looks at the rest rather than through the same
+/// capped cones again; only when no view sees any of those (or none is left) are they
+/// planned over all its points, for a second look.
 pub(crate) fn create_cones(
     cx: Ctx,
     mem: &mut Memory,
@@ -26,16 +30,62 @@ pub(crate) fn create_cones(
     label: &str,
     loc: ConeLoc,
 ) {
-    let Some(set) = plan_cones(cx, mem, cam, label, loc, None, &[1.0]) else {
+    let fresh: Option<Vec<[f64; 3]>> = match cx.knowledge.class(label) {
+        Some(class) if mem.looks.get(label).is_some_and(|l| !l.is_empty()) => {
+            let all = location_points(cx, mem, class, loc);
+            let n = all.len();
+            let fresh: Vec<[f64; 3]> = all
+                .into_iter()
+                .filter(|&p| mem.looks_at(label, p) == 0)
+                .collect();
+            (!fresh.is_empty() && fresh.len() < n).then_some(fresh)
+        }
+        _ => None,
+    };
+    let planned_fresh = fresh
+        .and_then(|pts| plan_cones(cx, mem, cam, label, loc, Some(pts), &[1.0]))
+        .filter(|s| !s.views.is_empty());
+    let not_looked = planned_fresh.is_some();
+    let Some(set) = planned_fresh.or_else(|| plan_cones(cx, mem, cam, label, loc, None, &[1.0]))
+    else {
         return;
     };
     run.observe(format!(
-        "{} view cones for {label} cover {:.0}% of {} points",
+        "{} view cones for {label} cover {:.0}% of {} points{}",
         set.views.len(),
         100.0 * set.covered_share,
-        set.n_points
+        set.n_points,
+        if not_looked { " not looked at yet" } else { "" }
     ));
     mem.cones.insert((label.to_string(), loc), set);
+}
+
+/// The points of location `loc` where an object of `class` may be: a room's known cells at
+/// the search heights ([`room_points`]), or a grid over a landmark's top at the height an
+/// object of `class` standing on it has its centre.
+pub(crate) fn location_points(
+    cx: Ctx,
+    mem: &Memory,
+    class: &ObjectClass,
+    loc: ConeLoc,
+) -> Vec<[f64; 3]> {
+    match loc {
+        ConeLoc::Room(r) => room_points(cx, mem, r, class, false),
+        ConeLoc::On(k) => {
+            let o = &mem.objects[k];
+            let lm = cx.knowledge.class(&o.class);
+            let (w, h) = lm.map_or((1.0, 0.75), |c| (c.size[0].max(c.size[1]), c.size[2]));
+            let z = h + class.size[2] * 0.5;
+            let mut pts = Vec::new();
+            let n = ((w / 0.2).ceil() as i64).max(1);
+            for i in -n / 2..=n / 2 {
+                for j in -n / 2..=n / 2 {
+                    pts.push([o.pos.x + 0.2 * i as f64, o.pos.y + 0.2 * j as f64, z]);
+                }
+            }
+            pts
+        }
+    }
 }
 
 /// View planning for `label` at `loc` (CREATEVIEWCONES, Sjöö et al. `004` §2.1): cones
@@ -61,29 +111,12 @@ pub(crate) fn plan_cones(
     let class = cx.knowledge.class(label)?;
     let grid = &mem.grid;
     let in_room = |x: f64, y: f64, r: u64| mem.room_at([x, y]) == Some(RoomId(r));
-    let (points, center, reach): (Vec<[f64; 3]>, Option<[f64; 2]>, f64) = match loc {
-        ConeLoc::Room(r) => (
-            points.unwrap_or_else(|| room_points(cx, mem, r, class, false)),
-            None,
-            0.0,
-        ),
+    let points = points.unwrap_or_else(|| location_points(cx, mem, class, loc));
+    let (center, reach): (Option<[f64; 2]>, f64) = match loc {
+        ConeLoc::Room(_) => (None, 0.0),
         ConeLoc::On(k) => {
             let o = &mem.objects[k];
-            let lm = cx.knowledge.class(&o.class);
-            let (w, h) = lm.map_or((1.0, 0.75), |c| (c.size[0].max(c.size[1]), c.size[2]));
-            let z = h + class.size[2] * 0.5;
-            let mut pts = Vec::new();
-            let n = ((w / 0.2).ceil() as i64).max(1);
-            for i in -n / 2..=n / 2 {
-                for j in -n / 2..=n / 2 {
-                    pts.push([o.pos.x + 0.2 * i as f64, o.pos.y + 0.2 * j as f64, z]);
-                }
-            }
-            (
-                points.unwrap_or(pts),
-                Some([o.pos.x, o.pos.y]),
-                class.detection_range[1] + 0.5,
-            )
+            (Some([o.pos.x, o.pos.y]), class.detection_range[1] + 0.5)
         }
     };
     // A landmark's top is small: poses on a finer grid, so that one lies near the middle of a

@@ -60,7 +60,7 @@ pub(crate) fn cover_all<R: Robot + ?Sized>(
                 class: goal.class.clone(),
             }));
         }
-        let next = next_step(cx, mem, body.at(), &class, strategy, run)
+        let next = next_step(cx, mem, body.at(), &class, strategy, &goal.region, run)
             .or_else(|| outside_rooms(cx, mem, body.at(), &run.visited).map(Next::Visit));
         let Some(next) = next else {
             if pass < passes {
@@ -152,13 +152,15 @@ fn room_distance(mem: &Memory, from: [f64; 2], r: RoomId) -> Option<f64> {
     mem.path_len(from, nearest, true)
 }
 
-/// The coverage's next step from `at`: a room to cover or a placeholder to explore.
+/// The coverage's next step from `at`: a room to cover or a placeholder to explore. `region`
+/// is the floor of the target's room for the informed strategy (see [`informed_step`]).
 fn next_step(
     cx: Ctx,
     mem: &Memory,
     at: [f64; 2],
     class: &ObjectClass,
     strategy: Strategy,
+    region: &[[f64; 2]],
     run: &Run,
 ) -> Option<Next> {
     let covered_share = cx.tuning().covered_share;
@@ -193,6 +195,11 @@ fn next_step(
         })
         .min_by(|a, b| a.3.total_cmp(&b.3).then(a.0.cmp(&b.0)));
     let here_room = mem.current_room();
+    if strategy == Strategy::Informed {
+        if let Some(next) = informed_step(mem, at, region, &pending) {
+            return Some(next);
+        }
+    }
     match strategy {
         Strategy::Frontier => {
             if let Some(r) = here_room.filter(|r| pending.iter().any(|(p, _)| p == r)) {
@@ -206,6 +213,60 @@ fn next_step(
             .map(Next::Cover)
             .or(nearest_ph.map(|(_, id, p, _)| Next::Explore(id, p))),
     }
+}
+
+/// The informed reference's step towards the target's room `region`: the nearest room not yet
+/// covered (of `pending`, with path lengths) that holds a point of the region; while part of
+/// the region lies in no known room, the placeholder that minimises the path to it plus the
+/// straight line from it to the nearest such point (A*'s estimate through the frontier); else
+/// nothing (the region is covered: the uninformed coverage goes on). Points the map has
+/// seen that no room holds (doorways) count as done.
+fn informed_step(
+    mem: &Memory,
+    at: [f64; 2],
+    region: &[[f64; 2]],
+    pending: &[(RoomId, f64)],
+) -> Option<Next> {
+    let mut holding = Vec::new();
+    let mut outside = Vec::new();
+    for &p in region {
+        match mem.room_at(p) {
+            Some(r) => holding.push(r),
+            None if unknown_at(mem, p) => outside.push(p),
+            // Known but in no room (a doorway): nothing to find out there.
+            None => {}
+        }
+    }
+    if let Some(&(r, _)) = pending
+        .iter()
+        .filter(|(r, _)| holding.contains(r))
+        .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
+    {
+        return Some(Next::Cover(r));
+    }
+    if outside.is_empty() {
+        return None;
+    }
+    mem.phs
+        .iter()
+        .filter(|(k, _)| mem.registry[*k].explored.is_none())
+        .filter_map(|(k, c)| {
+            let to = outside
+                .iter()
+                .map(|p| dist(*p, c.pos))
+                .fold(f64::INFINITY, f64::min);
+            let l = mem.path_len(at, c.pos, true)? + to;
+            let id = mem.registry[*k].id;
+            Some((names::placeholder(id), id, c.pos, l))
+        })
+        .min_by(|a, b| a.3.total_cmp(&b.3).then(a.0.cmp(&b.0)))
+        .map(|(_, id, p, _)| Next::Explore(id, p))
+}
+
+/// Whether the known map has not seen the point `p` (or it lies off the map).
+fn unknown_at(mem: &Memory, p: [f64; 2]) -> bool {
+    let (c, r) = mem.grid.world_to_cell(p[0], p[1]);
+    !mem.grid.contains(c, r) || mem.grid.get(c as usize, r as usize) == avs_map::grid::Cell::Unknown
 }
 
 /// The nearest reachable known free cell that no room holds, at least `outside_rooms_min`

@@ -11,6 +11,14 @@
 //! * [`Strategy::Frontier`] — nearest-frontier exploration (Yamauchi 1997): the robot always
 //!   goes to the nearest placeholder, and covers the room it stands in, the same way, the first
 //!   time it finds itself in a room not yet covered.
+//! * [`Strategy::Informed`] — a reference, not a method: told the floor of the room that holds
+//!   the target ([`Goal::in_region`](crate::Goal::in_region)) and nothing else, it covers the
+//!   known rooms that hold part of that floor, nearest first; while part of it is unseen it
+//!   explores the placeholder minimising the path to it plus the straight line on to the
+//!   room (A*'s estimate through the frontier); then it covers the rest as the uninformed
+//!   strategy does. It covers as the planner's last resort does (two passes, furniture tops
+//!   from a look-around), so that the planner's SPL can be read against what knowing the room
+//!   buys.
 //!
 //! The same coverage loop is the switching planner's last resort: when the most promising plan
 //! falls below the success threshold (or the plan budget is spent), the knowledge has been
@@ -55,7 +63,10 @@ use crate::skills::Ctx;
 use crate::AgentError;
 use avs_robot::Robot;
 
-/// The executive of the baselines: one coverage pass, no landmarks.
+/// The executive of the baselines: one coverage pass, no landmarks. The informed reference
+/// covers as the planner's last resort does (`tuning.cover_passes` passes, looking around in
+/// each room for the furniture whose tops it then looks at), so that its path is a reference
+/// for the planner's, not a weaker searcher's.
 pub(crate) fn baseline_loop<R: Robot + ?Sized>(
     cx: Ctx,
     mem: &mut Memory,
@@ -64,7 +75,11 @@ pub(crate) fn baseline_loop<R: Robot + ?Sized>(
     goal: &Goal,
     strategy: Strategy,
 ) -> Result<Result<FoundObject, GiveUpReason>, AgentError> {
+    let (passes, look_around) = match strategy {
+        Strategy::Informed => (cx.tuning().cover_passes, true),
+        _ => (1, false),
+    };
     body.with_activity(Activity::Coverage, |b| {
-        cover_all(cx, mem, b, run, goal, strategy, 1, false)
+        cover_all(cx, mem, b, run, goal, strategy, passes, look_around)
     })
 }

@@ -1,4 +1,4 @@
-//! `avs bench --generate N --seed S [--rooms K] [--strategy planner|uninformed|frontier]
+//! `avs bench --generate N --seed S [--rooms K] [--strategy planner|uninformed|frontier|informed]
 //! [--misleading] [--goal CLASS] [--json]`
 //!
 //! The search benchmark: N generated floors (`avs generate` with seeds S, S+1, …), each with a
@@ -31,12 +31,16 @@ pub struct Args {
     /// Rooms per floor besides the corridor.
     #[arg(long, default_value_t = 6)]
     pub rooms: usize,
-    /// planner | uninformed | frontier.
+    /// planner | uninformed | frontier | informed (told the target's room: a reference).
     #[arg(long, default_value = "planner")]
     pub strategy: Strategy,
     /// Put each target in the room the knowledge makes least likely.
     #[arg(long)]
     pub misleading: bool,
+    /// Give the simulated robot its place classifier (size, shape, appearance readings as
+    /// evidence on room categories; off by default).
+    #[arg(long)]
+    pub place_classifier: bool,
     /// Search this class on every floor (default: drawn per floor).
     #[arg(long)]
     pub goal: Option<String>,
@@ -83,6 +87,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         misleading: a.misleading,
         goal: a.goal.clone(),
         save_floors: a.save_floors.clone(),
+        place_classifier: a.place_classifier,
     };
     let r = bench(&knowledge, &domain, &params, &tick)?;
     bar.finish_and_clear();

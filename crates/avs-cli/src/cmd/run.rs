@@ -37,6 +37,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         edits: Default::default(),
         before: &[],
         cover_before_giving_up: avs_agent::AgentConfig::default().cover_before_giving_up,
+        place_classifier: false,
         json_file: a.trace_json.as_deref(),
         svg: a.svg.as_deref(),
         quiet: false,

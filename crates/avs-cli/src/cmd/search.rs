@@ -1,5 +1,5 @@
 //! `avs search --env E --knowledge K --domain D --goal CLASS [--seed N] [--trace-json F]
-//! [--svg F] [--json] [--strategy planner|uninformed|frontier] [--failure-rate P]
+//! [--svg F] [--json] [--strategy planner|uninformed|frontier|informed] [--failure-rate P]
 //! [--fp-scale X] [--close-door NAME[@METRES]]... [--start X,Y,YAW_DEG] [--remove CLASS_OR_ID]...
 //! [--before CLASS]... [--give-up paper|cover]`
 //!
@@ -46,7 +46,7 @@ pub struct Args {
     /// Print only the summary, as JSON.
     #[arg(long)]
     pub json: bool,
-    /// planner | uninformed | frontier.
+    /// planner | uninformed | frontier | informed (told the target's room: a reference).
     #[arg(long, default_value = "planner")]
     pub strategy: Strategy,
     /// Fault injection: probability that a motion or a view fails.
@@ -74,6 +74,10 @@ pub struct Args {
     /// `cover` first covers what no search has looked at.
     #[arg(long, value_enum, default_value_t = GiveUp::Cover)]
     pub give_up: GiveUp,
+    /// Give the simulated robot its place classifier (size, shape, appearance readings as
+    /// evidence on room categories; off by default).
+    #[arg(long)]
+    pub place_classifier: bool,
 }
 
 /// What the agent does when the planner gives up.
@@ -162,6 +166,8 @@ pub struct Request<'a> {
     pub before: &'a [String],
     /// Cover what no search has looked at before giving up.
     pub cover_before_giving_up: bool,
+    /// Give the simulated robot its place classifier.
+    pub place_classifier: bool,
     /// JSON-lines trace file.
     pub json_file: Option<&'a Path>,
     /// SVG picture of the run.
@@ -233,6 +239,7 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
         },
         faults: r.faults.clone(),
         before: r.before,
+        place_classifier: r.place_classifier,
     };
     let out = run_episode(&world, &spec, &mut on_event)
         .with_context(|| format!("searching {}", env.display()))?;
@@ -317,6 +324,7 @@ fn search(a: Args) -> anyhow::Result<bool> {
         },
         before: &a.before,
         cover_before_giving_up: a.give_up == GiveUp::Cover,
+        place_classifier: a.place_classifier,
         json_file: a.trace_json.as_deref(),
         svg: a.svg.as_deref(),
         quiet: a.json,
