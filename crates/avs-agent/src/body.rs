@@ -160,9 +160,10 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
     fn file_place_readings(mem: &mut Memory, readings: Vec<(NodeIndex, Vec<PlaceReading>)>) {
         for (place, rs) in readings {
             for r in rs {
-                tracing::debug!(place = place.index(), property = %r.property, value = %r.value, "place property");
-                if let Err(e) = mem.wm.saw_place_property(place, &r.property, &r.likelihood) {
-                    tracing::debug!(place = place.index(), property = %r.property, error = %e, "place reading ignored");
+                let (p, property) = (place.index(), &r.property);
+                tracing::debug!(place = p, %property, value = %r.value, "place property");
+                if let Err(e) = mem.wm.saw_place_property(place, property, &r.likelihood) {
+                    tracing::debug!(place = p, %property, error = %e, "place reading ignored");
                 }
             }
         }
@@ -267,8 +268,8 @@ mod tests {
         }
     }
 
-    /// P(category) of the robot's room after a survey and walks to x = 2.5, 4, 5.5 m and back, each place
-    /// classified with the next of `readings`: one value after each classification.
+    /// P(category) of the robot's room after a survey and walks to x = 2.5, 4, 5.5 m and
+    /// back, each new place classified with the next of `readings`: one value after each walk.
     fn posterior_along(readings: &[(&str, &str)], category: &str) -> (Vec<f64>, usize) {
         let (config, k) = (AgentConfig::default(), testing::knowledge());
         let mut robot = testing::robot(testing::room(7.0, 3.0), [1.0, 1.5]);

@@ -71,11 +71,12 @@ pub enum Strategy {
     Uninformed,
     /// Nearest-frontier exploration, searching each room as it is found.
     Frontier,
-    /// A reference, not a method: told which room holds the target ([`Goal::in_region`](crate::Goal::in_region),
-    /// the room's floor and nothing else), it explores towards that room, covers it as the
-    /// uninformed strategy covers a room, and falls back to the uninformed coverage if the
-    /// target is not there. Its path is what a searcher who knew the room would drive: an upper
-    /// reference for the others that is not the straight line of SPL.
+    /// A reference, not a method: told which room holds the target
+    /// ([`Goal::in_region`](crate::Goal::in_region): the room's floor and nothing else), it
+    /// explores towards that room, covers it as the uninformed strategy covers a room, and
+    /// falls back to the uninformed coverage if the target is not there. Its path is what a
+    /// searcher who knew the room would drive: a reference for the others that is not the
+    /// straight line of SPL (not a bound: its coverage can miss, as every strategy's can).
     Informed,
 }
 

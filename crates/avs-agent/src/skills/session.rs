@@ -374,10 +374,11 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
 }
 
 /// Record one look at every point of the processed cones (`processed`; a point once per
-/// session however many of them held it) in [`Memory::looks`], and return the share `q` of the location's rate the looks removed:
-/// with every point of the location weighted `(1 − p_d)^looks` (a point's chance to hold the
-/// object after that many misses, the rate being spread evenly over the points before any
-/// look), `q = 1 − Σ w_after / Σ w_before` over the location's points now. For a first
+/// session however many of them held it) in [`Memory::looks`], and return the share `q` of
+/// the location's rate the looks removed: with every point of the location weighted
+/// `(1 − p_d)^looks` (a point's chance to hold the object after that many misses, the rate
+/// being spread evenly over the points before any look), `q = 1 − Σ w_after / Σ w_before`
+/// over the location's points now. For a first
 /// search this is `p_d` × the share of the points looked at, the thinning of eq. 1 by the
 /// looked-at cells (`002` §III-A); a second session's look at the same points removes less,
 /// as it should, since they were likely empty already.
