@@ -253,7 +253,7 @@ mod tests {
 
     #[test]
     fn true_values_over_many_places_follow_the_category_distribution() {
-        let (world, k) = setup();
+        let (_, k) = setup();
         let c = PlaceClassifier::new(&k, PlaceClassifierConfig::default(), 5).unwrap();
         // Shape in an office: P(elongated) = 0.30 in office.yaml.
         let prop = k
@@ -273,7 +273,6 @@ mod tests {
         let share = elongated as f64 / n as f64;
         let want = k.place_properties[prop].given_category[office][0];
         assert!((share - want).abs() < 0.015, "{share} vs {want}");
-        let _ = world;
     }
 
     #[test]

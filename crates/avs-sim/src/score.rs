@@ -48,11 +48,23 @@ pub fn shortest_path_to_class(world: &World, class: &str) -> Option<f64> {
 /// Length of the shortest collision-free path (as [`shortest_path_to_class`]) from `from` to
 /// the nearest object of `class`, metres: habitat's geodesic distance to the goal.
 pub fn geodesic_to_class(world: &World, class: &str, from: [f64; 2]) -> Option<f64> {
+    nearest_by_path(world, class, from).map(|(_, l)| l)
+}
+
+/// The object of `class` nearest `from` by a collision-free path (robot radius, true map), with
+/// that path's length in metres.
+fn nearest_by_path<'w>(
+    world: &'w World,
+    class: &'w str,
+    from: [f64; 2],
+) -> Option<(&'w avs_format::environment::Object, f64)> {
     let trav = Traversability::new(&world.truth, world.env.robot.radius, false);
     world
         .objects_of_class(class)
-        .filter_map(|o| shortest_path(&trav, from, [o.pose.x, o.pose.y], 1.5).map(|p| p.length))
-        .min_by(f64::total_cmp)
+        .filter_map(|o| {
+            shortest_path(&trav, from, [o.pose.x, o.pose.y], 1.5).map(|p| (o, p.length))
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1))
 }
 
 /// The floor of the room that holds the object of `class` nearest `from` by a collision-free
@@ -65,14 +77,7 @@ pub fn target_room_floor(
     from: [f64; 2],
     spacing: f64,
 ) -> Vec<[f64; 2]> {
-    let trav = Traversability::new(&world.truth, world.env.robot.radius, false);
-    let Some(target) = world
-        .objects_of_class(class)
-        .filter_map(|o| {
-            shortest_path(&trav, from, [o.pose.x, o.pose.y], 1.5).map(|p| (o, p.length))
-        })
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .map(|(o, _)| [o.pose.x, o.pose.y])
+    let Some(target) = nearest_by_path(world, class, from).map(|(o, _)| [o.pose.x, o.pose.y])
     else {
         return Vec::new();
     };

@@ -183,17 +183,7 @@ fn next_step(
         .iter()
         .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
         .map(|&(r, _)| r);
-    // Ties in path length go to the placeholder whose plan name sorts first.
-    let nearest_ph = mem
-        .phs
-        .iter()
-        .filter(|(k, _)| mem.registry[*k].explored.is_none())
-        .filter_map(|(k, c)| {
-            let l = mem.path_len(at, c.pos, true)?;
-            let id = mem.registry[*k].id;
-            Some((names::placeholder(id), id, c.pos, l))
-        })
-        .min_by(|a, b| a.3.total_cmp(&b.3).then(a.0.cmp(&b.0)));
+    let nearest_ph = best_placeholder(mem, at, |_| 0.0);
     let here_room = mem.current_room();
     if strategy == Strategy::Informed {
         if let Some(next) = informed_step(mem, at, region, &pending) {
@@ -205,14 +195,25 @@ fn next_step(
             if let Some(r) = here_room.filter(|r| pending.iter().any(|(p, _)| p == r)) {
                 return Some(Next::Cover(r));
             }
-            nearest_ph
-                .map(|(_, id, p, _)| Next::Explore(id, p))
-                .or(nearest_room.map(Next::Cover))
+            nearest_ph.or(nearest_room.map(Next::Cover))
         }
-        _ => nearest_room
-            .map(Next::Cover)
-            .or(nearest_ph.map(|(_, id, p, _)| Next::Explore(id, p))),
+        _ => nearest_room.map(Next::Cover).or(nearest_ph),
     }
+}
+
+/// Explore the open placeholder minimising the path from `at` to it plus `beyond(its
+/// position)`; ties go to the placeholder whose plan name sorts first.
+fn best_placeholder(mem: &Memory, at: [f64; 2], beyond: impl Fn([f64; 2]) -> f64) -> Option<Next> {
+    mem.phs
+        .iter()
+        .filter(|(k, _)| mem.registry[*k].explored.is_none())
+        .filter_map(|(k, c)| {
+            let l = mem.path_len(at, c.pos, true)? + beyond(c.pos);
+            let id = mem.registry[*k].id;
+            Some((names::placeholder(id), id, c.pos, l))
+        })
+        .min_by(|a, b| a.3.total_cmp(&b.3).then(a.0.cmp(&b.0)))
+        .map(|(_, id, p, _)| Next::Explore(id, p))
 }
 
 /// The informed reference's step towards the target's room `region`: the nearest room not yet
@@ -247,20 +248,12 @@ fn informed_step(
     if outside.is_empty() {
         return None;
     }
-    mem.phs
-        .iter()
-        .filter(|(k, _)| mem.registry[*k].explored.is_none())
-        .filter_map(|(k, c)| {
-            let to = outside
-                .iter()
-                .map(|p| dist(*p, c.pos))
-                .fold(f64::INFINITY, f64::min);
-            let l = mem.path_len(at, c.pos, true)? + to;
-            let id = mem.registry[*k].id;
-            Some((names::placeholder(id), id, c.pos, l))
-        })
-        .min_by(|a, b| a.3.total_cmp(&b.3).then(a.0.cmp(&b.0)))
-        .map(|(_, id, p, _)| Next::Explore(id, p))
+    best_placeholder(mem, at, |q| {
+        outside
+            .iter()
+            .map(|p| dist(*p, q))
+            .fold(f64::INFINITY, f64::min)
+    })
 }
 
 /// Whether the known map has not seen the point `p` (or it lies off the map).
