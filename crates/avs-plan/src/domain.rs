@@ -65,6 +65,10 @@ pub struct RawDomain {
     /// docs for when this loses no plan).
     #[serde(default)]
     pub assumptions_first: bool,
+    /// With `assumptions_first`: each assumption after the first of a plan must read a variable
+    /// the assumption just before it wrote (see the crate docs for when this loses no plan).
+    #[serde(default)]
+    pub assumption_chains: bool,
 }
 
 /// The schema of `kind:` in a domain file: the one word `domain`.
@@ -317,6 +321,8 @@ pub struct Domain {
     pub operators: Vec<OpSchema>,
     /// Assumptions only before the first non-assumptive step.
     pub assumptions_first: bool,
+    /// Assumptions in one chain, each reading what the one before it wrote.
+    pub assumption_chains: bool,
 }
 
 impl Domain {
@@ -728,6 +734,13 @@ fn compile(file: &str, raw: &RawDomain) -> Result<Domain, Vec<Diagnostic>> {
             assumption: o.assumption,
         });
     }
+    if raw.assumption_chains && !raw.assumptions_first {
+        cx.err(
+            "assumption_chains".into(),
+            "assumption chains are a restriction of the assumptions-first phase",
+            "`assumptions_first: true` as well, or no `assumption_chains`",
+        );
+    }
     if cx.diags.is_empty() {
         Ok(Domain {
             name: raw.name.clone(),
@@ -739,6 +752,7 @@ fn compile(file: &str, raw: &RawDomain) -> Result<Domain, Vec<Diagnostic>> {
             variables,
             operators,
             assumptions_first: raw.assumptions_first,
+            assumption_chains: raw.assumption_chains,
         })
     } else {
         Err(cx.diags)

@@ -42,6 +42,71 @@ struct VarTable {
     schema: Vec<usize>,
 }
 
+/// Assumption chains (domain flag `assumption_chains`, crate docs): a variable
+/// `(assumption-chain)` holds which set of variables the last assumption wrote (`none` before
+/// the first and once acting starts), and each assumption is copied once per such set it reads,
+/// with that value as a precondition, plus once for `none`. The state then tells exactly which
+/// assumptions may follow, so duplicate detection stays exact; an assumption nothing reads can
+/// only end the chain, so a plan carries at most one, not every subset of them.
+fn chain_assumptions(ops: Vec<Operator>, vt: &mut VarTable) -> Vec<Operator> {
+    let phase = (vt.values.len() - 1) as u32;
+    let chain = vt.values.len() as u32;
+    let writes = |o: &Operator| -> Vec<u32> {
+        o.eff
+            .iter()
+            .map(|&(v, _)| v)
+            .filter(|&v| v != phase)
+            .collect()
+    };
+    // Value 0 is `none`; value k ≥ 1 the k-th distinct write set.
+    let mut sets: BTreeMap<Vec<u32>, u32> = BTreeMap::new();
+    for o in ops.iter().filter(|o| o.assumption) {
+        let n = sets.len() as u32 + 1;
+        sets.entry(writes(o)).or_insert(n);
+    }
+    let mut values = vec!["none".to_string()];
+    let mut by_id: Vec<Vec<u32>> = vec![Vec::new(); sets.len() + 1];
+    for (w, &k) in &sets {
+        by_id[k as usize] = w.clone();
+    }
+    values.extend(by_id.iter().skip(1).map(|w| {
+        let names: Vec<&str> = w.iter().map(|&v| vt.names[v as usize].as_str()).collect();
+        format!("wrote {}", names.join(", "))
+    }));
+    vt.names.push("(assumption-chain)".into());
+    vt.values.push(values);
+    vt.init.push(0);
+    vt.schema.push(usize::MAX);
+    let mut out = Vec::with_capacity(ops.len());
+    for mut o in ops {
+        if !o.assumption {
+            o.eff.push((chain, 0));
+            o.eff.sort_unstable();
+            out.push(o);
+            continue;
+        }
+        let own = sets[&writes(&o)];
+        let reads: Vec<u32> = o.pre.iter().map(|&(v, _)| v).collect();
+        let after = std::iter::once(0).chain(
+            by_id
+                .iter()
+                .enumerate()
+                .skip(1)
+                .filter(|(_, w)| w.iter().any(|v| reads.contains(v)))
+                .map(|(k, _)| k as u32),
+        );
+        o.eff.push((chain, own));
+        o.eff.sort_unstable();
+        for k in after {
+            let mut copy = o.clone();
+            copy.pre.push((chain, k));
+            copy.pre.sort_unstable();
+            out.push(copy);
+        }
+    }
+    out
+}
+
 fn cartesian(lists: &[Vec<usize>]) -> Vec<Vec<usize>> {
     let mut out = vec![Vec::new()];
     for l in lists {
@@ -359,6 +424,9 @@ pub fn ground(d: &Domain, inst: Instance, f: &dyn Functions) -> Result<Grounded,
                 o.eff.push((v as u32, 1));
                 o.eff.sort_unstable();
             }
+        }
+        if d.assumption_chains {
+            ops = chain_assumptions(ops, &mut vt);
         }
     }
     // Goal.
