@@ -9,9 +9,9 @@
 //!
 //! ## Parts
 //! * [`factor`]: discrete factors and factor graphs (libDAI's first-variable-fastest tables).
-//! * [`bp`]: sum-product loopy BP with libDAI's options (`updates` SEQFIX | SEQMAX | PARALL,
-//!   `damping`, `tol`, `maxiter`, `logdomain`), reporting iterations, convergence and the last
-//!   belief change; warm start from given messages.
+//! * [`bp`]: sum-product loopy BP with libDAI's options, schedules and stopping rule (`updates`
+//!   SEQFIX | SEQMAX | PARALL, `damping`, `tol`, `maxiter`, `logdomain`), reporting
+//!   iterations, convergence and the last belief change; warm start from given messages.
 //! * [`exact`]: exact marginals by variable elimination (min-fill order) organised as a
 //!   junction tree, with a memory limit.
 //! * [`io`]: UAI (`MARKOV`/`BAYES`, evidence, `.MAR`) and libDAI `.fg` readers.
