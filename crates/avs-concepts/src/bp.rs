@@ -39,6 +39,16 @@
 //! * `logdomain` keeps messages as logarithms and sums with log-sum-exp.
 //!
 //! On a tree, BP is exact after at most diameter-many parallel iterations.
+//!
+//! **Zeros.** In exact arithmetic a message or belief of BP is never zero for every value
+//! unless the model is contradictory: every value that survives generalised arc consistency
+//! on the factors' supports (Mackworth 1977; Dechter 2003, *Constraint Processing*, ch. 3)
+//! keeps a positive message — by induction over the updates, the configuration that supports
+//! it contributes a positive term to every sum. So when BP meets a zero it runs arc
+//! consistency: if it empties a variable's domain, the evidence and factors are contradictory
+//! ([`GraphError::Inconsistent`]); if not, the zero is BP's own, from the range of floating
+//! point ([`GraphError::BpNumericalZero`]) — the evidence may well be consistent, and the log
+//! domain or exact inference will answer.
 
 use crate::factor::FactorGraph;
 use crate::GraphError;
@@ -472,7 +482,8 @@ impl<'g> Engine<'g> {
         }
     }
 
-    /// The error for a zero BP met in `iteration` (1-based).
+    /// The error for a zero BP met in `iteration` (1-based): contradictory evidence if arc
+    /// consistency finds it, BP's own numerical zero otherwise.
     fn explain(&self, z: Zero, iteration: usize) -> GraphError {
         let what = match z {
             Zero::Message(e) => format!(
@@ -482,9 +493,22 @@ impl<'g> Engine<'g> {
             Zero::VarBelief(v) => format!("the belief of variable {v}"),
             Zero::FactorBelief(f) => format!("the belief of factor {f}"),
         };
-        GraphError::Inconsistent(format!(
-            "{what} is zero everywhere at iteration {iteration} (contradictory evidence or factors)"
-        ))
+        match arc_consistency_wipeout(self.g) {
+            Some(v) => GraphError::Inconsistent(format!(
+                "the factors and evidence leave variable {v} no value of positive probability \
+                 (found by arc consistency after loopy BP's {what} became zero at iteration \
+                 {iteration})"
+            )),
+            None => GraphError::BpNumericalZero {
+                what,
+                iteration,
+                hint: if self.log {
+                    ""
+                } else {
+                    "; run BP in the log domain (`logdomain`)"
+                },
+            },
+        }
     }
 }
 
@@ -508,6 +532,48 @@ fn log_normalise(x: &mut [f64]) -> Result<(), ()> {
     }
     x.iter_mut().for_each(|v| *v -= z);
     Ok(())
+}
+
+/// Generalised arc consistency on the factors' supports (which values can still have
+/// positive probability): repeatedly remove a variable's value when no positive entry of
+/// some factor over it has all its variables at values not yet removed (Mackworth 1977).
+/// Returns the first variable left with no value, if any. Sound: a value of any
+/// configuration of positive probability is never removed.
+pub(crate) fn arc_consistency_wipeout(g: &FactorGraph) -> Option<usize> {
+    let mut dom: Vec<Vec<bool>> = g.cards().iter().map(|&c| vec![true; c]).collect();
+    let mut state = Vec::new();
+    let mut supp: Vec<Vec<bool>> = Vec::new();
+    let mut changed = true;
+    while changed {
+        changed = false;
+        for fac in g.factors() {
+            let (vars, cards) = (fac.vars(), fac.cards());
+            supp.clear();
+            supp.extend(cards.iter().map(|&c| vec![false; c]));
+            state.clear();
+            state.resize(vars.len(), 0);
+            for &x in fac.values() {
+                if x > 0.0 && vars.iter().zip(&state).all(|(&v, &s)| dom[v][s]) {
+                    for (q, &s) in state.iter().enumerate() {
+                        supp[q][s] = true;
+                    }
+                }
+                odometer(&mut state, cards);
+            }
+            for (q, &v) in vars.iter().enumerate() {
+                for (d, s) in dom[v].iter_mut().zip(&supp[q]) {
+                    if *d && !s {
+                        *d = false;
+                        changed = true;
+                    }
+                }
+                if !dom[v].iter().any(|d| *d) {
+                    return Some(v);
+                }
+            }
+        }
+    }
+    None
 }
 
 /// A residual in the SEQMAX priority queue: (residual, stamp, edge). Larger residual first;
@@ -605,7 +671,9 @@ fn linf(a: &[f64], b: &[f64]) -> f64 {
 /// at 1, as libDAI's.
 ///
 /// Errors: [`GraphError::Invalid`] for options out of range or warm messages that do not fit;
-/// [`GraphError::Inconsistent`] when a message or belief becomes zero for every value.
+/// [`GraphError::Inconsistent`] when a message or belief becomes zero for every value and
+/// arc consistency shows the factors and evidence contradictory;
+/// [`GraphError::BpNumericalZero`] when it becomes zero although arc consistency does not.
 pub fn run_bp(
     g: &FactorGraph,
     opts: &BpOptions,
@@ -806,6 +874,7 @@ fn run(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::factor::Factor;
 
     #[test]
     fn equal_residuals_go_to_the_one_set_last_as_libdais_multimap() {
@@ -835,5 +904,25 @@ mod tests {
         // The last set was edge 1 (k = 999).
         assert_eq!(q.top(), Some(1));
         assert!(q.heap.len() <= 4 * 2 + 64 + 1);
+    }
+
+    #[test]
+    fn arc_consistency_empties_a_domain_only_when_the_supports_are_contradictory() {
+        // a = b required; a ∈ {0}, b ∈ {1} by evidence: contradictory.
+        let mut g = FactorGraph::new(vec![2, 2]).unwrap();
+        g.add_factor(Factor::new(vec![0, 1], vec![2, 2], vec![1.0, 0.0, 0.0, 1.0]).unwrap())
+            .unwrap();
+        g.clamp(0, 0).unwrap();
+        assert_eq!(arc_consistency_wipeout(&g), None);
+        g.clamp(1, 1).unwrap();
+        assert!(arc_consistency_wipeout(&g).is_some());
+        // a ≠ b, b ≠ c, a ≠ c on binary variables (an odd cycle) has no solution, but every
+        // value has a support in every factor: arc consistency, being local, keeps them all.
+        let mut g = FactorGraph::new(vec![2, 2, 2]).unwrap();
+        for (x, y) in [(0, 1), (1, 2), (0, 2)] {
+            g.add_factor(Factor::new(vec![x, y], vec![2, 2], vec![0.0, 1.0, 1.0, 0.0]).unwrap())
+                .unwrap();
+        }
+        assert_eq!(arc_consistency_wipeout(&g), None);
     }
 }

@@ -1,8 +1,9 @@
 //! The BP schedules and stopping rule as documented in `avs_concepts::bp` (libDAI's), pinned
-//! by traces computed by hand.
+//! by traces computed by hand; and BP's zeros named for what they are.
 
 use avs_concepts::bp::{run_bp, BpOptions, Updates};
 use avs_concepts::factor::{Factor, FactorGraph};
+use avs_concepts::GraphError;
 
 fn close(got: &[f64], want: &[f64]) {
     assert_eq!(got.len(), want.len());
@@ -109,5 +110,72 @@ fn the_stopping_rule_counts_factor_beliefs_as_libdai_maxdiff() {
         let r = run_bp(&g, &o, None).unwrap();
         assert!(r.converged, "{updates:?}");
         assert_eq!(r.iterations, 2, "{updates:?}");
+    }
+}
+
+#[test]
+fn a_linear_domain_underflow_is_named_as_bps_not_as_contradictory_evidence() {
+    // x is observed at 1 (an indicator factor (0, 1)) after 400 factors (1, 0.01) that each
+    // favour 0. P(x = 1) = 1 exactly: the evidence is consistent. In the linear domain BP's
+    // belief of x multiplies 0.01 four hundred times (1e-800 underflows to 0) at x = 1 and
+    // the indicator's 0 at x = 0: zero for both values.
+    let mut g = FactorGraph::new(vec![2]).unwrap();
+    for _ in 0..400 {
+        g.add_factor(Factor::new(vec![0], vec![2], vec![1.0, 0.01]).unwrap())
+            .unwrap();
+    }
+    g.clamp(0, 1).unwrap();
+    match run_bp(&g, &BpOptions::default(), None) {
+        Err(GraphError::BpNumericalZero {
+            what, iteration, ..
+        }) => {
+            assert_eq!(what, "the belief of variable 0");
+            assert_eq!(iteration, 1);
+        }
+        other => panic!("expected BP's numerical zero, got {other:?}"),
+    }
+    let msg = run_bp(&g, &BpOptions::default(), None)
+        .unwrap_err()
+        .to_string();
+    assert!(msg.contains("not contradictory evidence"), "{msg}");
+    assert!(msg.contains("log domain"), "{msg}");
+    // The log domain has the range: ln 0.01 · 400 ≈ −1842 is finite.
+    let log = BpOptions {
+        logdomain: true,
+        ..BpOptions::default()
+    };
+    let r = run_bp(&g, &log, None).unwrap();
+    assert_eq!(r.marginals[0], vec![0.0, 1.0]);
+}
+
+#[test]
+fn contradictory_evidence_is_found_by_arc_consistency_and_said_so() {
+    // a = 0 observed, b = 1 observed, and a factor allowing only a = b: no configuration has
+    // positive probability. After the first sweep the belief of F0, f(a, b)·(1, 0)_a·(0, 1)_b,
+    // is zero everywhere (and the next sweep's messages would be too). Arc consistency
+    // removes a = 1 and b = 0 (the evidence), then a = 0 (its only partner, b = 0, is gone):
+    // a is left empty.
+    let mut g = FactorGraph::new(vec![2, 2]).unwrap();
+    g.add_factor(Factor::new(vec![0, 1], vec![2, 2], vec![1.0, 0.0, 0.0, 1.0]).unwrap())
+        .unwrap();
+    g.clamp(0, 0).unwrap();
+    g.clamp(1, 1).unwrap();
+    for updates in [Updates::Parall, Updates::SeqFix, Updates::SeqMax] {
+        for logdomain in [false, true] {
+            let o = BpOptions {
+                updates,
+                logdomain,
+                ..BpOptions::default()
+            };
+            match run_bp(&g, &o, None) {
+                Err(GraphError::Inconsistent(m)) => {
+                    assert!(m.contains("arc consistency"), "{m}");
+                    assert!(m.contains("no value of positive probability"), "{m}");
+                }
+                other => {
+                    panic!("{updates:?} log {logdomain}: expected Inconsistent, got {other:?}")
+                }
+            }
+        }
     }
 }
