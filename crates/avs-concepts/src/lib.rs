@@ -9,9 +9,10 @@
 //!
 //! ## Parts
 //! * [`factor`]: discrete factors and factor graphs (libDAI's first-variable-fastest tables).
-//! * [`bp`]: sum-product loopy BP with libDAI's options (`updates` SEQFIX | SEQMAX | PARALL,
-//!   `damping`, `tol`, `maxiter`, `logdomain`), reporting iterations, convergence and the last
-//!   belief change; warm start from given messages.
+//! * [`bp`]: sum-product loopy BP with libDAI's options, schedules and stopping rule (`updates`
+//!   SEQFIX | SEQMAX | PARALL, `damping`, `tol`, `maxiter`, `logdomain`), reporting
+//!   iterations, convergence and the last belief change; warm start from given messages; a
+//!   zero of BP's told apart from contradictory evidence.
 //! * [`exact`]: exact marginals by variable elimination (min-fill order) organised as a
 //!   junction tree, with a memory limit.
 //! * [`io`]: UAI (`MARKOV`/`BAYES`, evidence, `.MAR`) and libDAI `.fg` readers.
@@ -166,6 +167,23 @@ pub enum GraphError {
     /// Evidence and factors leave no configuration with positive probability.
     #[error("inconsistent model: {0}")]
     Inconsistent(String),
+    /// Loopy BP's message or belief became zero for every value although arc consistency
+    /// leaves every variable a value of positive probability: a zero of BP's floating-point
+    /// arithmetic (underflow or overflow), not evidence that the model is contradictory (in
+    /// exact arithmetic BP keeps every arc-consistent value positive; see [`crate::bp`]).
+    #[error(
+        "loopy BP: {what} became zero for every value at iteration {iteration}; this is BP's \
+         floating-point range, not contradictory evidence (arc consistency leaves every \
+         variable a value of positive probability){hint}"
+    )]
+    BpNumericalZero {
+        /// The message or belief, named by factor and variable indices.
+        what: String,
+        /// The iteration (1-based) in which it happened.
+        iteration: usize,
+        /// What to try instead (empty when there is nothing to add).
+        hint: &'static str,
+    },
     /// Exact inference would need too much memory.
     #[error("exact inference needs {needed:.3e} table entries, more than the limit {limit}")]
     TooLarge {

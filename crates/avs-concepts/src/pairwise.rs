@@ -9,12 +9,13 @@
 //! beliefs `b_i ∝ u_i Π_{k ∈ N(i)} m_{k→i}` (eq. 12). This equals factor-graph BP on the same
 //! graph (the generic engine in [`crate::bp`]), which the tests check.
 //!
-//! Schedule: sequential over rooms in order (as SEQFIX), but a room recomputes its outgoing
-//! messages only when it is *dirty* — its node potential changed, or an incoming message
-//! changed by more than `tol` (L∞) since it last did. After one observation only the rooms
-//! the change actually reaches are touched, so an event costs a few message updates around
-//! the room rather than full sweeps (a residual-gated schedule in the spirit of Elidan,
-//! McGraw & Koller 2006). BP has converged when no room is dirty.
+//! Schedule: sequential, room by room in order, each room sending all its outgoing messages
+//! (variable by variable — not libDAI's SEQFIX of [`crate::bp`], which goes factor by factor),
+//! but a room recomputes its outgoing messages only when it is *dirty* — its node potential
+//! changed, or an incoming message changed by more than `tol` (L∞) since it last did. After
+//! one observation only the rooms the change actually reaches are touched, so an event costs a
+//! few message updates around the room rather than full sweeps (a residual-gated schedule in
+//! the spirit of Elidan, McGraw & Koller 2006). BP has converged when no room is dirty.
 
 /// Options of the map's BP.
 #[derive(Debug, Clone, Copy, PartialEq)]
