@@ -84,6 +84,8 @@ pub struct BenchResult {
     pub plans_mean: f64,
     /// Median planning time over every plan of every run, ms.
     pub plan_ms_median: f64,
+    /// The longest search's wall-clock seconds (see [`crate::episode::Summary::compute_s`]).
+    pub compute_s_max: f64,
     /// Seed of the first floor.
     pub seed: u64,
     /// Rooms per floor.
@@ -225,6 +227,7 @@ pub fn bench(
         room_revisits_mean: mean(&ok, |r| r.summary.room_revisits as f64),
         plans_mean: mean(&ok, |r| r.summary.plans as f64),
         plan_ms_median: median(&plan_ms),
+        compute_s_max: runs.iter().map(|r| r.summary.compute_s).fold(0.0, f64::max),
         seed: p.seed,
         rooms: p.rooms,
         misleading: p.misleading,

@@ -78,6 +78,9 @@ pub struct Summary {
     pub plan_ms_median: f64,
     /// Median time per DT decision, ms.
     pub dt_ms_median: f64,
+    /// Wall-clock seconds of the whole search (the agent's planning, sessions and map
+    /// updates, and the simulated robot's sensing).
+    pub compute_s: f64,
     /// Why the search ended.
     pub reason: String,
 }
@@ -195,7 +198,9 @@ pub fn run_episode(
         }
         goal = goal.in_region(region);
     }
+    let clock = std::time::Instant::now();
     let report = agent.search_with(&mut robot, goal, &mut sink)?;
+    let compute_s = clock.elapsed().as_secs_f64();
     // Scoring against ground truth (the agent never saw it).
     let reported = report
         .found
@@ -224,6 +229,7 @@ pub fn run_episode(
         dt_sessions: report.metrics.dt_sessions,
         plan_ms_median: median(&report.metrics.plan_ms),
         dt_ms_median: median(&report.metrics.dt_ms),
+        compute_s,
         reason: report.reason.clone(),
     };
     Ok(Episode {

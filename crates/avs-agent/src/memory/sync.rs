@@ -124,20 +124,17 @@ impl Memory {
         if places.is_empty() {
             return Ok(Vec::new());
         }
-        // Distance to the nearest place that sees the point (a place behind a wall does not
-        // make the space beyond it visited).
-        let near_place = |p: [f64; 2]| {
+        // Whether a place near enough sees the point (a place behind a wall does not make the
+        // space beyond it visited); the first one found settles it.
+        let seen_from_a_place = |p: [f64; 2]| {
             places
                 .iter()
-                .map(|q| (q, dist(*q, p)))
-                .filter(|(q, d)| *d <= t.unvisited_distance && line_of_sight(&grid, **q, p, false))
-                .map(|(_, d)| d)
-                .fold(f64::INFINITY, f64::min)
+                .any(|q| dist(*q, p) <= t.unvisited_distance && line_of_sight(&grid, *q, p, false))
         };
         let mut picked: Vec<Cand> = Vec::new();
         let mut extra: Vec<(u64, avs_concepts::Placeholder)> = Vec::new();
         for pos in self.with_trav(false, |tr| standable(&grid, tr, 1.0)) {
-            if near_place(pos) <= t.unvisited_distance
+            if seen_from_a_place(pos)
                 || picked
                     .iter()
                     .any(|c| dist(c.pos, pos) < t.unvisited_spacing)
@@ -187,7 +184,7 @@ impl Memory {
                 for dc in -r..=r {
                     if grid.get_i(c0 + dc, r0 + dr) == Cell::Free {
                         let (cx, cy) = grid.cell_center(c0 + dc, r0 + dr);
-                        if dist([cx, cy], pos) <= 2.5 && near_place([cx, cy]) > t.unvisited_distance
+                        if dist([cx, cy], pos) <= 2.5 && !seen_from_a_place([cx, cy])
                         {
                             cells += 1;
                         }

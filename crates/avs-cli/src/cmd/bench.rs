@@ -116,6 +116,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         println!("  room_revisits_mean {:.1}", r.room_revisits_mean);
         println!("  plans_mean        {:.1}", r.plans_mean);
         println!("  plan_ms_median    {:.2} ms", r.plan_ms_median);
+        println!("  compute_s_max     {:.1} s", r.compute_s_max);
         for run in r.runs.iter().filter(|r| r.reachable && !r.summary.found) {
             println!(
                 "  missed: seed {} {}: {}",

@@ -376,5 +376,6 @@ pub fn print_summary(s: &Summary) {
     println!("  DT sessions:          {}", s.dt_sessions);
     println!("  plan time (median):   {:.1} ms", s.plan_ms_median);
     println!("  DT decision (median): {:.1} ms", s.dt_ms_median);
+    println!("  search time:          {:.1} s", s.compute_s);
     println!("  ended:                {}", s.reason);
 }
