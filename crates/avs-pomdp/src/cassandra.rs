@@ -324,7 +324,7 @@ impl Parser {
                 return self.err(
                     e.line,
                     format!(
-                        "reward {:e} at discount {discount} allows values up to {:e}; expected |reward| / (1 − discount) ≤ {:e} (rescale the rewards)",
+                        "reward {:e} at discount {discount} allows values up to {:.2e}; expected |reward| / (1 − discount) ≤ {:e} (rescale the rewards)",
                         e.value,
                         e.value.abs() / (1.0 - discount),
                         crate::model::MAX_VALUE_MAGNITUDE

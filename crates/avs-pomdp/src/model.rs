@@ -167,7 +167,7 @@ impl Pomdp {
             .position(|r| !reward_in_range(*r, t.discount))
         {
             return Err(PomdpError::InvalidModel(format!(
-                "reward R({}, {}) = {:e} at discount {} allows values up to {:e}; expected |R| / (1 − discount) ≤ {MAX_VALUE_MAGNITUDE:e} (rescale the rewards)",
+                "reward R({}, {}) = {:e} at discount {} allows values up to {:.2e}; expected |R| / (1 − discount) ≤ {MAX_VALUE_MAGNITUDE:e} (rescale the rewards)",
                 t.states[i % ns],
                 t.actions[i / ns],
                 t.rewards[i],

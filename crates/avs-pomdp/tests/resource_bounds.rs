@@ -115,3 +115,36 @@ fn a_model_too_large_for_its_observations_is_refused_before_allocating() {
         .to_string()
         .contains("the transition table of 1 actions × 8192 states × 8192 states"));
 }
+
+/// Models built in code are held to the same bounds as files.
+#[test]
+fn models_built_from_tables_are_checked_too() {
+    use avs_pomdp::{Pomdp, PomdpTables};
+    let tables = |reward: f64| PomdpTables {
+        states: vec!["a".into()],
+        actions: vec!["x".into()],
+        observations: vec!["o".into()],
+        discount: 0.99,
+        transitions: vec![1.0],
+        observation_probs: vec![1.0],
+        rewards: vec![reward],
+        initial: vec![1.0],
+    };
+    assert!(Pomdp::new(tables(1e9)).is_ok());
+    let e = Pomdp::new(tables(-1e300)).unwrap_err().to_string();
+    assert!(
+        e.contains("reward R(a, x) = -1e300 at discount 0.99 allows values up to 1.00e302"),
+        "{e}"
+    );
+    let mut wide = tables(1.0);
+    wide.states = (0..1 << 12).map(|i| i.to_string()).collect();
+    wide.observations = (0..1 << 13).map(|i| i.to_string()).collect();
+    assert!(matches!(
+        Pomdp::with_sparse_transitions(wide, Vec::new()),
+        Err(PomdpError::TooLarge {
+            states: 4096,
+            observations: 8192,
+            ..
+        })
+    ));
+}
