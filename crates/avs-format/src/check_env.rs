@@ -4,7 +4,8 @@
 //! What is checked:
 //! - every number is finite (YAML allows `.nan` and `.inf`);
 //! - sizes, widths, resolution, radius, speed, ranges are positive; occupancy thresholds are
-//!   probabilities with `free_thresh ≤ occupied_thresh`; angle limits are ordered;
+//!   probabilities with `free_thresh ≤ occupied_thresh`; angle limits are ordered; the laser
+//!   reaches at most [`MAX_LASER_RANGE_M`], sees at most 360° and has at most 100,000 beams;
 //! - room names, door names and object ids are unique (each among its own kind);
 //! - an object's `room`, a door's `rooms`, an object's `on` / `in` name things that exist;
 //!   an object is not `on` and `in` at once, not on/in itself, not in a cycle, and the
@@ -143,6 +144,14 @@ fn one_of<'a>(names: impl Iterator<Item = &'a str>) -> String {
     }
     s
 }
+
+/// Longest laser range accepted, metres.
+///
+/// Planar laser scanners reach 10–80 m indoors and long-range ones about 300 m, so a larger
+/// value is a unit slip (millimetres for metres) or a placeholder like `1e6`. The simulator
+/// clips rays to the map's diagonal whatever this says (`avs_map::raycast`), so the bound is
+/// about catching the mistake, not about run time; 1 km leaves every real sensor valid.
+pub const MAX_LASER_RANGE_M: f64 = 1000.0;
 
 /// Slack around a landmark's footprint for objects standing on or lying in it, metres.
 const FOOTPRINT_SLACK: f64 = 0.05;
@@ -470,6 +479,18 @@ pub fn check_environment(
     r.positive("robot.radius".into(), env.robot.radius, "metres");
     r.positive("robot.speed".into(), env.robot.speed, "metres per second");
     r.positive("laser.range".into(), env.laser.range, "metres");
+    if env.laser.range > MAX_LASER_RANGE_M {
+        r.push(
+            "laser.range".into(),
+            format!(
+                "{} m is beyond the reach of any planar laser",
+                env.laser.range
+            ),
+            format!(
+                "a range in metres of at most {MAX_LASER_RANGE_M} (real scanners reach 10–300 m)"
+            ),
+        );
+    }
     if r.finite("laser.fov_deg".into(), env.laser.fov_deg)
         && !(env.laser.fov_deg > 0.0 && env.laser.fov_deg <= 360.0)
     {
@@ -607,6 +628,25 @@ mod tests {
         let d = check_environment("t.yaml", &env(&cycle), None);
         let paths: Vec<&str> = d.iter().map(|d| d.path.as_str()).collect();
         assert_eq!(paths, ["objects[0].on", "objects[1].on", "objects[2].on"]);
+    }
+
+    /// Issue 18: a laser range of 1e6 m validated, and each scan then cast fov × range /
+    /// resolution rays; it is now an input error at the field's line and column.
+    #[test]
+    fn an_absurd_laser_range_is_rejected_at_its_line() {
+        let text = "kind: environment\nname: t\nmap: { ascii: \"###\\n#.#\\n###\\n\", resolution: 1.0 }\nrobot: { start: { x: 1.5, y: 1.5 } }\nlaser:\n  range: 1e6\n  fov_deg: 360\n  beams: 360\n";
+        let e: Environment = crate::load_yaml_str("t.yaml", text).unwrap();
+        let mut d = check_environment("t.yaml", &e, None);
+        crate::positions::locate(&mut d, text);
+        assert_eq!(d.len(), 1, "{d:?}");
+        assert_eq!(
+            d[0].to_string(),
+            "t.yaml:6:10: laser.range: 1000000 m is beyond the reach of any planar laser; \
+             a range in metres of at most 1000 (real scanners reach 10–300 m)"
+        );
+        let ok = text.replace("1e6", "1000");
+        let e: Environment = crate::load_yaml_str("t.yaml", &ok).unwrap();
+        assert_eq!(check_environment("t.yaml", &e, None), vec![]);
     }
 
     #[test]

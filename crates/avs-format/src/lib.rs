@@ -23,7 +23,8 @@
 //!   them back to line and column with the same event walk, falling back to the longest written
 //!   prefix (a field left at its default is reported at its parent).
 //! - **Environment rules** ([`check_env`]): every number finite; sizes, widths, resolution,
-//!   radius, speed positive; thresholds in [0, 1]; names unique per kind (rooms, doors,
+//!   radius, speed positive; thresholds in [0, 1]; laser range at most
+//!   [`check_env::MAX_LASER_RANGE_M`] (a unit slip; the simulator clips rays to the map anyway); names unique per kind (rooms, doors,
 //!   objects); references (`room`, `on`, `in`, door `rooms`) resolve; a supporting object is a
 //!   landmark in the same room, under the object (footprint + 5 cm), with no support cycles;
 //!   with a knowledge file, categories and classes are known ones and landmarks have landmark

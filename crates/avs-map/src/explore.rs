@@ -16,9 +16,16 @@ use crate::raycast::walk_segment;
 /// traversability treats as blocked.
 const SNAP: f64 = 1.0;
 
-/// Unknown area (m²) a 360° sensor of `range` metres at `pos` would newly see.
+/// Unknown area (m²) a 360° sensor of `range` metres at `pos` would newly see. The range is
+/// clipped to the grid's diagonal, as the laser's ([`crate::raycast::max_ray_length`]): the
+/// number of rays grows with it and no ray counts cells beyond the grid.
 pub fn new_area(known: &OccupancyGrid, pos: [f64; 2], range: f64) -> f64 {
     let res = known.resolution();
+    let range = if range > 0.0 {
+        range.min(crate::raycast::max_ray_length(known))
+    } else {
+        0.0
+    };
     let rays = ((std::f64::consts::TAU * range / res).ceil() as usize).max(8);
     let mut counted = std::collections::HashSet::new();
     for i in 0..rays {

@@ -29,14 +29,10 @@ pub enum MapError {
         /// The cause.
         source: std::io::Error,
     },
-    /// The map_server descriptor is malformed.
-    #[error("{path}: {message}")]
-    Descriptor {
-        /// The file.
-        path: PathBuf,
-        /// What is wrong and what is expected.
-        message: String,
-    },
+    /// The map_server descriptor could not be read as YAML: too large, too deeply nested, or
+    /// fields of the wrong shape (`FILE:LINE:COLUMN: field: problem; expected …`).
+    #[error("{0}")]
+    Descriptor(#[from] avs_format::LoadError),
     /// The image could not be decoded.
     #[error("{path}: cannot decode image: {message}")]
     Image {
@@ -76,6 +72,10 @@ pub struct MapServerDescriptor {
     pub mode: Option<String>,
 }
 
+/// Most cells of a grid (and pixels of an image read as one, [`crate::image_io`]): 64 M, an
+/// 8000 × 8000 grid, a 400 m × 400 m floor at 5 cm per cell.
+pub const MAX_CELLS: usize = 64_000_000;
+
 /// A 2-D occupancy grid.
 #[derive(Debug, Clone, PartialEq)]
 pub struct OccupancyGrid {
@@ -109,7 +109,7 @@ impl OccupancyGrid {
                 message: "expected finite coordinates".into(),
             });
         }
-        if width == 0 || height == 0 || width.saturating_mul(height) > 64_000_000 {
+        if width == 0 || height == 0 || width.saturating_mul(height) > MAX_CELLS {
             return Err(MapError::Invalid {
                 field: "size",
                 message: format!("{width}×{height} cells; expected between 1 and 64 million cells"),
@@ -156,16 +156,15 @@ impl OccupancyGrid {
     }
 
     /// Load a ROS map_server map from its YAML descriptor.
+    ///
+    /// The descriptor is read like every avs YAML file, by [`avs_format::load_yaml_str`]: at
+    /// most [`avs_format::load::MAX_FILE_BYTES`], [`avs_format::positions::MAX_DEPTH`] levels
+    /// of nesting and a bounded alias expansion, checked before anything is built (a value
+    /// nested 100,000 deep took serde_yaml over a minute), with located diagnostics
+    /// ([`MapError::Descriptor`]).
     pub fn from_map_server_yaml(path: &Path) -> Result<Self, MapError> {
-        let text = std::fs::read_to_string(path).map_err(|source| MapError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        let d: MapServerDescriptor =
-            serde_yaml::from_str(&text).map_err(|e| MapError::Descriptor {
-                path: path.to_path_buf(),
-                message: format!("{e}; expected a ROS map_server descriptor (image, resolution, origin, negate, occupied_thresh, free_thresh)"),
-            })?;
+        let text = avs_format::load::read_text(path)?;
+        let d: MapServerDescriptor = avs_format::load_yaml_str(&path.display().to_string(), &text)?;
         let base = path.parent().unwrap_or(Path::new("."));
         Self::from_image(
             &base.join(&d.image),
@@ -179,7 +178,8 @@ impl OccupancyGrid {
 
     /// Load an image (PGM/PNG) with map_server's trinary interpretation: p = (255 − v) / 255
     /// (or v / 255 when negated); p > occupied_thresh → occupied, p < free_thresh → free,
-    /// otherwise unknown.
+    /// otherwise unknown. The image is read within the limits of [`crate::image_io`] (at most
+    /// [`MAX_CELLS`] pixels, checked before decoding).
     pub fn from_image(
         path: &Path,
         resolution: f64,
@@ -197,9 +197,15 @@ impl OccupancyGrid {
                 message: format!("got {free_thresh}/{occupied_thresh}; expected 0 ≤ free_thresh ≤ occupied_thresh ≤ 1"),
             });
         }
-        let img = image::open(path).map_err(|e| MapError::Image {
-            path: path.to_path_buf(),
-            message: e.to_string(),
+        let img = crate::image_io::open_image(path).map_err(|e| match e {
+            crate::image_io::ImageReadError::Io(source) => MapError::Io {
+                path: path.to_path_buf(),
+                source,
+            },
+            other => MapError::Image {
+                path: path.to_path_buf(),
+                message: other.to_string(),
+            },
         })?;
         let luma = img.to_luma8();
         let (w, h) = (luma.width() as usize, luma.height() as usize);
@@ -298,5 +304,39 @@ impl OccupancyGrid {
     /// Number of cells in state `c`.
     pub fn count(&self, c: Cell) -> usize {
         self.cells.iter().filter(|&&x| x == c).count()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 18 reproducer: a map descriptor with a value nested 100,000 deep took serde_yaml
+    /// over a minute; the descriptor is now read with the avs YAML loader's bounds and the
+    /// error names the line and column where the nesting passes the cap.
+    #[test]
+    fn a_deeply_nested_descriptor_is_refused_with_its_position() {
+        let dir = std::env::temp_dir().join(format!("avs-descriptor-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("deep.yaml");
+        let deep = format!("image: {}x{}\n", "[".repeat(100_000), "]".repeat(100_000));
+        std::fs::write(&path, deep).unwrap();
+        let e = OccupancyGrid::from_map_server_yaml(&path).unwrap_err();
+        let MapError::Descriptor(load) = &e else {
+            panic!("expected a descriptor error, got {e:?}");
+        };
+        let d = &load.diagnostics[0];
+        assert_eq!(d.file, path.display().to_string());
+        assert_eq!(d.line, Some(1), "{d}");
+        assert!(d.message.contains("nest"), "{d}");
+        // A sound descriptor with a wrong field is located too.
+        std::fs::write(&path, "image: x.png\nresolution: fine\n").unwrap();
+        let e = OccupancyGrid::from_map_server_yaml(&path).unwrap_err();
+        let MapError::Descriptor(load) = &e else {
+            panic!("expected a descriptor error, got {e:?}");
+        };
+        assert_eq!(load.diagnostics[0].path, "resolution");
+        assert_eq!(load.diagnostics[0].line, Some(2));
+        std::fs::remove_dir_all(&dir).ok();
     }
 }

@@ -3,6 +3,8 @@
 //! What the robot knows of space.
 //!
 //! * [`grid`]: occupancy grids from ROS map_server maps (through the `image` crate) and ASCII;
+//!   [`image_io`]: the one image reader, with a pixel limit checked before decoding and a
+//!   decoder memory limit (map images and ground-truth images alike);
 //! * [`raycast`]: walking grid cells along a segment, line of sight, what a laser scan reveals;
 //! * [`nav`]: traversability for a robot radius, A* shortest paths, Dijkstra distance fields;
 //! * [`doors`]: door hypotheses — critical points of the free space's Voronoi diagram whose
@@ -25,6 +27,7 @@ pub mod doors;
 pub mod explore;
 pub mod geometry;
 pub mod grid;
+pub mod image_io;
 pub mod metrics;
 pub mod nav;
 pub mod places;

@@ -186,8 +186,11 @@ pub const TRUTH_MIN_PIXELS: usize = 100;
 
 /// Read a ground-truth segmentation image: rooms are the 8-connected regions of white pixels
 /// (every colour channel ≥ [`TRUTH_WHITE`]) larger than [`TRUTH_MIN_PIXELS`].
+///
+/// The image is read within the limits of [`crate::image_io`] (at most
+/// [`crate::grid::MAX_CELLS`] pixels, checked from the header before decoding).
 pub fn load_truth_image(path: &Path) -> Result<TruthLabels, MetricsError> {
-    let img = image::open(path).map_err(|e| MetricsError::Image {
+    let img = crate::image_io::open_image(path).map_err(|e| MetricsError::Image {
         path: path.to_path_buf(),
         message: e.to_string(),
     })?;

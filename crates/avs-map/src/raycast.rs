@@ -2,6 +2,18 @@
 //!
 //! One home for walking the grid cells along a segment ([`cells_on_segment`], the
 //! Amanatides–Woo voxel traversal), used for laser scans, line of sight and camera visibility.
+//!
+//! ## Rays are clipped to the map
+//! A scan casts enough rays to leave no gap of more than one cell at full range, so its cost
+//! grows as `fov × range / resolution` rays of `range / resolution` cells each. The simulator
+//! only reveals cells of the grid, and a ray stops at the grid's edge, so a range beyond the
+//! grid's diagonal ([`max_ray_length`]) reveals nothing more; a field of view beyond a full
+//! turn only repeats rays. [`LaserModel::ray_ends`] therefore clips the range to the diagonal
+//! and the field of view to 360° before fanning out (a range of 1e6 m on a 20 m map casts the
+//! rays of a 28 m laser, not 6·10⁸ rays), and [`crate::explore::new_area`] clips its range the
+//! same way. The fan keeps its promise of no gap wider than one cell: every cell of the grid
+//! lies within one diagonal of any pose inside it, and a pose outside the grid reveals nothing
+//! either way. For lasers that reach no farther than the diagonal nothing changes.
 
 use crate::grid::{Cell, OccupancyGrid};
 
@@ -55,8 +67,12 @@ pub fn walk_segment(
     } else {
         r / dy.abs()
     };
-    // A segment crosses at most |Δc| + |Δr| + 1 cells; the bound also guards against NaN input.
-    let max_steps = (ec - c).unsigned_abs() + (er - row).unsigned_abs() + 1;
+    // A segment crosses at most |Δc| + |Δr| + 1 cells; the bound also guards against NaN input
+    // (and saturates for end points far outside any grid).
+    let max_steps = ec
+        .abs_diff(c)
+        .saturating_add(er.abs_diff(row))
+        .saturating_add(1);
     for _ in 0..max_steps {
         if !visit(c, row) {
             return false;
@@ -95,6 +111,13 @@ pub fn line_of_sight(grid: &OccupancyGrid, a: [f64; 2], b: [f64; 2], unknown_blo
     !blocked
 }
 
+/// The longest ray that can matter on `grid`: its diagonal, in metres (a ray from any point
+/// of the grid leaves it within this length). See the module docs, "Rays are clipped to the map".
+pub fn max_ray_length(grid: &OccupancyGrid) -> f64 {
+    let r = grid.resolution();
+    (grid.width() as f64 * r).hypot(grid.height() as f64 * r)
+}
+
 /// A planar laser: `beams` rays spread over `fov` radians centred on the heading, up to `range` m.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LaserModel {
@@ -107,16 +130,32 @@ pub struct LaserModel {
 }
 
 impl LaserModel {
-    /// The end points of a scan's rays from `pose` (`[x, y, heading]`) on a grid of
-    /// `resolution` metres: spread over the field of view centred on the heading (over the
-    /// full circle without repeating the first ray), spaced no wider than one cell at full
-    /// range whatever `beams` says, so a scan never leaves unrevealed gaps between rays (the
-    /// simulator reveals cells, not returns). The one home of the ray fan.
-    pub fn ray_ends(&self, pose: [f64; 3], resolution: f64) -> impl Iterator<Item = [f64; 2]> {
-        let n = self.beams.max(1);
-        let needed = ((self.fov * self.range / resolution).ceil() as usize).max(n);
-        let full_circle = self.fov >= std::f64::consts::TAU - 1e-9;
-        let (fov, range) = (self.fov, self.range);
+    /// This laser as far as `grid` can see it: the range clipped to [`max_ray_length`] and the
+    /// field of view to a full turn (NaN or negative values become 0: such a laser casts
+    /// `beams` rays of length 0). The clipped fan still leaves no gap wider than one cell
+    /// anywhere in the grid.
+    pub fn clipped_to(&self, grid: &OccupancyGrid) -> LaserModel {
+        let clip = |v: f64, hi: f64| if v > 0.0 { v.min(hi) } else { 0.0 };
+        LaserModel {
+            range: clip(self.range, max_ray_length(grid)),
+            fov: clip(self.fov, std::f64::consts::TAU),
+            beams: self.beams,
+        }
+    }
+
+    /// The end points of a scan's rays from `pose` (`[x, y, heading]`) on `grid`: spread over
+    /// the field of view centred on the heading (over the full circle without repeating the
+    /// first ray), spaced no wider than one cell at full range whatever `beams` says, so a scan
+    /// never leaves unrevealed gaps between rays (the simulator reveals cells, not returns).
+    /// Range and field of view are first clipped to the grid ([`Self::clipped_to`]), which
+    /// bounds the number of rays by `2π × diagonal / resolution` (or `beams`). The one home of
+    /// the ray fan.
+    pub fn ray_ends(&self, pose: [f64; 3], grid: &OccupancyGrid) -> impl Iterator<Item = [f64; 2]> {
+        let laser = self.clipped_to(grid);
+        let n = laser.beams.max(1);
+        let needed = ((laser.fov * laser.range / grid.resolution()).ceil() as usize).max(n);
+        let full_circle = laser.fov >= std::f64::consts::TAU - 1e-9;
+        let (fov, range) = (laser.fov, laser.range);
         (0..needed).map(move |i| {
             let frac = if full_circle || needed == 1 {
                 i as f64 / needed as f64
@@ -140,7 +179,7 @@ pub fn reveal_scan(
     laser: &LaserModel,
 ) -> usize {
     let mut revealed = 0;
-    for end in laser.ray_ends(pose, truth.resolution()) {
+    for end in laser.ray_ends(pose, truth) {
         walk_segment(truth, [pose[0], pose[1]], end, |c, r| {
             if !truth.contains(c, r) {
                 return false;
@@ -230,5 +269,48 @@ mod tests {
     fn nan_pose_terminates() {
         let g = room();
         let _ = cells_on_segment(&g, [f64::NAN, 1.0], [3.0, 3.0]);
+    }
+
+    #[test]
+    fn far_end_points_do_not_overflow_the_walk() {
+        let g = room();
+        // |Δcol| is beyond i64: the step bound saturates instead of overflowing.
+        assert!(!line_of_sight(&g, [-1e19, 1.5], [1e19, 1.5], true));
+    }
+
+    /// Issue 18 reproducer: a laser range of 1e6 m with a field of view of 1e9 degrees cast
+    /// `fov × range / resolution` ≈ 1.7e16 rays per scan. Clipped to the map it casts the rays
+    /// of a 360° laser reaching the map's diagonal, and reveals what that laser reveals.
+    #[test]
+    fn absurd_range_and_fov_are_clipped_to_the_map() {
+        let truth = room();
+        let absurd = LaserModel {
+            range: 1e6,
+            fov: 1e9_f64.to_radians(),
+            beams: 360,
+        };
+        let diagonal = max_ray_length(&truth);
+        assert!((diagonal - 10f64.hypot(6.0)).abs() < 1e-12);
+        let clipped = absurd.clipped_to(&truth);
+        assert_eq!(clipped.range, diagonal);
+        assert_eq!(clipped.fov, std::f64::consts::TAU);
+        let pose = [1.5, 1.5, 0.3];
+        let n = absurd.ray_ends(pose, &truth).count();
+        let bound = (std::f64::consts::TAU * diagonal / truth.resolution()).ceil() as usize;
+        assert_eq!(n, bound.max(360));
+        let mut seen_absurd = OccupancyGrid::new(10, 6, 1.0, [0.0, 0.0], Cell::Unknown).unwrap();
+        let mut seen_clipped = seen_absurd.clone();
+        reveal_scan(&truth, &mut seen_absurd, pose, &absurd);
+        reveal_scan(&truth, &mut seen_clipped, pose, &clipped);
+        assert_eq!(seen_absurd, seen_clipped);
+        // NaN and negative values cast rays of length 0 instead of misbehaving.
+        let broken = LaserModel {
+            range: f64::NAN,
+            fov: -1.0,
+            beams: 4,
+        };
+        assert!(broken
+            .ray_ends(pose, &truth)
+            .all(|e| e == [pose[0], pose[1]]));
     }
 }

@@ -11,8 +11,13 @@
 //! a virtual object with `exists = no` (and requires the pool's previous object to exist, so
 //! `new-room2` is only used after `new-room1`, which removes symmetric plans), and sets it to
 //! `yes`; any other parameter bound to a virtual object requires `exists = yes`.
+//!
+//! Grounding stays within [`GroundingLimits`] (see [`crate::limits`]): the ground variables of
+//! a state variable are counted before they are built, and an operator whose groundings pass
+//! a limit ends the grounding with [`PlanError::GroundingLimit`] naming it.
 
 use crate::domain::{Cond, Domain, Quantity};
+use crate::limits::{Budget, GroundingLimits};
 use crate::problem::{Functions, GroundVar, Instance};
 use crate::task::{Operator, Task, Variable};
 use crate::PlanError;
@@ -164,8 +169,21 @@ fn eval(
     }
 }
 
-/// Ground `d` with problem `inst`, evaluating costs and probabilities with `f`.
+/// Ground `d` with problem `inst`, evaluating costs and probabilities with `f`, within the
+/// default [`GroundingLimits`].
 pub fn ground(d: &Domain, inst: Instance, f: &dyn Functions) -> Result<Grounded, PlanError> {
+    ground_with(d, inst, f, &GroundingLimits::default())
+}
+
+/// [`ground`] within `limits`: passing one is [`PlanError::GroundingLimit`], naming the
+/// operator or state variable being grounded.
+pub fn ground_with(
+    d: &Domain,
+    inst: Instance,
+    f: &dyn Functions,
+    limits: &GroundingLimits,
+) -> Result<Grounded, PlanError> {
+    let mut budget = Budget::new(limits);
     let objs = &inst.objects;
     // Ground variables.
     let mut vt = VarTable {
@@ -191,7 +209,13 @@ pub fn ground(d: &Domain, inst: Instance, f: &dyn Functions) -> Result<Grounded,
             .iter()
             .map(|&t| objs.of_type(t).collect())
             .collect();
+        // Counted before `cartesian` builds them: a variable's ground instances are the
+        // product of its parameters' object counts. Each keeps its own list of value names.
+        let what = || format!("variable `{}`", v.name);
+        let product = lists.iter().try_fold(1usize, |n, l| n.checked_mul(l.len()));
+        budget.facts_ahead(what, product.and_then(|p| p.checked_add(vt.values.len())))?;
         for args in cartesian(&lists) {
+            budget.fact(what, vt.values.len() + 1, args.len() + values.len())?;
             let gv = (vi, args);
             let init = inst.initial(d, &gv)?;
             let ii = *vt.value_index[vi].get(&init).ok_or_else(|| {
@@ -262,11 +286,13 @@ pub fn ground(d: &Domain, inst: Instance, f: &dyn Functions) -> Result<Grounded,
             .collect();
         let mut bindings = Vec::new();
         let mut b = Vec::new();
-        let ctx = Enum {
+        let mut ctx = Enum {
             inst: &inst,
             vt: &vt,
+            budget: &mut budget,
+            found_before: found.len(),
         };
-        ctx.enumerate(op, &at, &cands, &mut b, &mut bindings);
+        ctx.enumerate(op, &at, &cands, &mut b, &mut bindings)?;
         found.extend(bindings.into_iter().map(|b| (oi, b)));
     }
     // Build operators.
@@ -355,6 +381,7 @@ pub fn ground(d: &Domain, inst: Instance, f: &dyn Functions) -> Result<Grounded,
             continue;
         }
         // Expand `!=` conditions into one operator per remaining reachable value.
+        let what = || format!("operator `{}`", op.name);
         let mut variants: Vec<BTreeMap<usize, u32>> = vec![pre];
         for &(v, x) in &excluded {
             let mut next = Vec::new();
@@ -372,10 +399,12 @@ pub fn ground(d: &Domain, inst: Instance, f: &dyn Functions) -> Result<Grounded,
                         }
                     }
                 }
+                budget.found(what, ops.len() + next.len(), args.len())?;
             }
             variants = next;
         }
         for p in variants {
+            budget.operator(what, ops.len() + 1, args.len())?;
             ops.push(Operator {
                 schema: op.name.clone(),
                 args: args.clone(),
@@ -503,6 +532,9 @@ pub fn ground(d: &Domain, inst: Instance, f: &dyn Functions) -> Result<Grounded,
 struct Enum<'a> {
     inst: &'a Instance,
     vt: &'a VarTable,
+    budget: &'a mut Budget,
+    /// Bindings of earlier operators already found.
+    found_before: usize,
 }
 
 impl Enum<'_> {
@@ -527,34 +559,41 @@ impl Enum<'_> {
         }
     }
 
+    /// Extend `b` by every candidate whose bound conditions hold, collecting complete bindings
+    /// in `out`; every binding tried and every one found counts against the budget.
     fn enumerate(
-        &self,
+        &mut self,
         op: &crate::domain::OpSchema,
         at: &[Vec<&Cond>],
         cands: &[Vec<usize>],
         b: &mut Vec<usize>,
         out: &mut Vec<Vec<usize>>,
-    ) {
+    ) -> Result<(), PlanError> {
+        let what = || format!("operator `{}`", op.name);
+        self.budget.tried(what)?;
         let depth = b.len();
         if depth > 0 {
             let o = b[depth - 1];
             if op.params[depth - 1].new && b[..depth - 1].contains(&o) {
-                return;
+                return Ok(());
             }
         }
         for c in &at[depth] {
             if !self.holds(c, b) {
-                return;
+                return Ok(());
             }
         }
         if depth == op.params.len() {
             out.push(b.clone());
-            return;
+            return self
+                .budget
+                .found(what, self.found_before + out.len(), b.len());
         }
         for &o in &cands[depth] {
             b.push(o);
-            self.enumerate(op, at, cands, b, out);
+            self.enumerate(op, at, cands, b, out)?;
             b.pop();
         }
+        Ok(())
     }
 }

@@ -12,7 +12,9 @@
 //!   every problem of a file.
 //! * [`problem`]: the current state as the caller knows it, and the [`problem::Functions`]
 //!   trait through which costs and probabilities come in (this crate knows no maps).
-//! * [`ground`]: grounding with relaxed-reachability pruning into a [`Task`].
+//! * [`ground`]: grounding with relaxed-reachability pruning into a [`Task`], within
+//!   [`limits::GroundingLimits`] (operators, facts, estimated bytes, bindings tried; the error
+//!   names the operator that passed them), as is PDDL grounding.
 //! * [`search`](mod@search): best-first search for the plan minimising cost(π) + R·(1 − Π p(a)) (paper 002,
 //!   §II-A.1); [`Mode::Optimal`] is A* with LM-cut, [`Mode::Fast`] greedy best-first search with
 //!   h^FF and preferred operators. The argument for exactness is in [`search`](mod@search).
@@ -125,6 +127,7 @@ pub mod expr;
 pub mod ground;
 pub mod heuristics;
 pub mod lifted;
+pub mod limits;
 pub mod pddl;
 pub mod problem;
 pub mod search;
@@ -164,6 +167,16 @@ pub enum PlanError {
     /// The search expanded more states than allowed.
     #[error("search gave up after {0} expansions")]
     SearchLimit(u64),
+    /// Grounding passed one of its [`limits::GroundingLimits`].
+    #[error("grounding {what} passed the limit of {limit} {resource}; expected operators whose parameters the preconditions constrain (each free parameter multiplies the groundings by the number of objects of its type), fewer objects, or higher limits")]
+    GroundingLimit {
+        /// What was being grounded, e.g. ``operator `move` `` or ``variable `at` ``.
+        what: String,
+        /// The resource that ran out.
+        resource: limits::GroundingResource,
+        /// The limit that was passed.
+        limit: u64,
+    },
 }
 
 /// Parse and check a domain file's text, returning every problem found (empty when valid):

@@ -3,7 +3,11 @@
 //! same SAS+ [`Task`] as the YAML domains (one binary variable per reachable fluent atom), and an
 //! independent plan validator that simulates a plan on the *lifted* task with PDDL semantics
 //! (deletes before adds) without any of the grounding or search code.
+//!
+//! Grounding stays within [`GroundingLimits`] (see [`crate::limits`]): an action whose
+//! groundings pass them ends the grounding with [`PlanError::GroundingLimit`] naming it.
 
+use crate::limits::{Budget, GroundingLimits};
 use crate::task::{Operator, Task, Variable};
 use crate::PlanError;
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
@@ -602,8 +606,21 @@ fn resolve<'a>(t: &'a Term, binding: &'a [usize], objs: &'a [String]) -> &'a str
     }
 }
 
-/// Ground a domain and problem into a SAS+ task by relaxed reachability.
+/// Ground a domain and problem into a SAS+ task by relaxed reachability, within the default
+/// [`GroundingLimits`].
 pub fn ground(domain_file: &str, d: &Domain, p: &Problem) -> Result<Task, PlanError> {
+    ground_with(domain_file, d, p, &GroundingLimits::default())
+}
+
+/// [`ground`] within `limits`: passing one is [`PlanError::GroundingLimit`], naming the action
+/// being grounded.
+pub fn ground_with(
+    domain_file: &str,
+    d: &Domain,
+    p: &Problem,
+    limits: &GroundingLimits,
+) -> Result<Task, PlanError> {
+    let mut budget = Budget::new(limits);
     let types = object_types(d, p).map_err(|m| err(domain_file, m))?;
     let mut objs: Vec<String> = types.keys().cloned().collect();
     objs.sort();
@@ -675,31 +692,40 @@ pub fn ground(domain_file: &str, d: &Domain, p: &Problem) -> Result<Task, PlanEr
         })
         .collect();
     let mut ground_actions: BTreeMap<(usize, Vec<usize>), ()> = BTreeMap::new();
+    for (pred, args) in &reached {
+        budget.fact(|| format!("the initial state (`{pred}`)"), 0, args.len())?;
+    }
     loop {
         let before = reached.len();
         for (ai, a) in d.actions.iter().enumerate() {
+            let what = || format!("action `{}`", a.name);
             let mut binding = Vec::with_capacity(a.params.len());
             let mut found = Vec::new();
-            enumerate(
+            let mut g = Grounding {
                 a,
-                &cands[ai],
-                &check_at[ai],
-                &objs,
-                &fluent,
-                &init,
-                &reached,
-                &mut binding,
-                &mut found,
-            );
+                cands: &cands[ai],
+                check_at: &check_at[ai],
+                objs: &objs,
+                fluent: &fluent,
+                init: &init,
+                reached: &reached,
+                budget: &mut budget,
+            };
+            g.enumerate(&mut binding, &mut found)?;
             for b in found {
                 for (pred, args) in &a.add {
                     let args: Vec<String> = args
                         .iter()
                         .map(|t| resolve(t, &b, &objs).to_string())
                         .collect();
-                    reached.insert((pred.clone(), args));
+                    let arity = args.len();
+                    if reached.insert((pred.clone(), args)) {
+                        budget.fact(what, reached.len(), arity)?;
+                    }
                 }
-                ground_actions.insert((ai, b), ());
+                if ground_actions.insert((ai, b), ()).is_none() {
+                    budget.operator(what, ground_actions.len(), a.params.len())?;
+                }
             }
         }
         if reached.len() == before {
@@ -909,61 +935,70 @@ fn unsolvable(mut task: Task) -> Task {
     task
 }
 
-#[expect(
-    clippy::too_many_arguments,
-    reason = "the grounding recursion threads its whole state through each level"
-)]
-fn enumerate(
-    a: &Action,
-    cands: &[Vec<usize>],
-    check_at: &[Vec<&Literal>],
-    objs: &[String],
-    fluent: &HashSet<&str>,
-    init: &HashSet<(String, Vec<String>)>,
-    reached: &HashSet<(String, Vec<String>)>,
-    binding: &mut Vec<usize>,
-    found: &mut Vec<Vec<usize>>,
-) {
-    let depth = binding.len();
-    for l in &check_at[depth] {
-        let ok = match l {
-            Literal::Equal {
-                a: x,
-                b: y,
-                negated,
-            } => (resolve(x, binding, objs) == resolve(y, binding, objs)) != *negated,
-            Literal::Atom {
-                pred,
-                args,
-                negated,
-            } => {
-                let key = (
-                    pred.clone(),
-                    args.iter()
-                        .map(|t| resolve(t, binding, objs).to_string())
-                        .collect(),
-                );
-                if fluent.contains(pred.as_str()) {
-                    *negated || reached.contains(&key)
-                } else {
-                    init.contains(&key) != *negated
+/// One action's enumeration state for one round of the reachability fixpoint.
+struct Grounding<'g> {
+    a: &'g Action,
+    cands: &'g [Vec<usize>],
+    check_at: &'g [Vec<&'g Literal>],
+    objs: &'g [String],
+    fluent: &'g HashSet<&'g str>,
+    init: &'g HashSet<(String, Vec<String>)>,
+    reached: &'g HashSet<(String, Vec<String>)>,
+    budget: &'g mut Budget,
+}
+
+impl Grounding<'_> {
+    /// Extend `binding` by every candidate whose bound literals hold, collecting complete
+    /// bindings in `found`; every binding tried and every one found counts against the budget.
+    fn enumerate(
+        &mut self,
+        binding: &mut Vec<usize>,
+        found: &mut Vec<Vec<usize>>,
+    ) -> Result<(), PlanError> {
+        let (a, objs) = (self.a, self.objs);
+        self.budget.tried(|| format!("action `{}`", a.name))?;
+        let depth = binding.len();
+        for l in &self.check_at[depth] {
+            let ok = match l {
+                Literal::Equal {
+                    a: x,
+                    b: y,
+                    negated,
+                } => (resolve(x, binding, objs) == resolve(y, binding, objs)) != *negated,
+                Literal::Atom {
+                    pred,
+                    args,
+                    negated,
+                } => {
+                    let key = (
+                        pred.clone(),
+                        args.iter()
+                            .map(|t| resolve(t, binding, objs).to_string())
+                            .collect(),
+                    );
+                    if self.fluent.contains(pred.as_str()) {
+                        *negated || self.reached.contains(&key)
+                    } else {
+                        self.init.contains(&key) != *negated
+                    }
                 }
+            };
+            if !ok {
+                return Ok(());
             }
-        };
-        if !ok {
-            return;
         }
-    }
-    if depth == a.params.len() {
-        found.push(binding.clone());
-        return;
-    }
-    for &o in &cands[depth] {
-        binding.push(o);
-        enumerate(
-            a, cands, check_at, objs, fluent, init, reached, binding, found,
-        );
-        binding.pop();
+        if depth == a.params.len() {
+            found.push(binding.clone());
+            return self
+                .budget
+                .found(|| format!("action `{}`", a.name), found.len(), depth);
+        }
+        for &o in &self.cands[depth] {
+            binding.push(o);
+            self.enumerate(binding, found)?;
+            binding.pop();
+        }
+        Ok(())
     }
 }
 

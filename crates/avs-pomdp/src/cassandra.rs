@@ -8,13 +8,22 @@
 //!
 //! Rewards `R(s, a, s', z)` are reduced to the expected immediate reward
 //! `R(s, a) = Σ_{s'} T(s'|s,a) Σ_z O(z|a,s') R(s, a, s', z)`; with `values: cost` they are negated.
+//!
+//! ## Bounds on what a file may ask for
+//! Every number must be finite. Before any table is allocated, `|S| × |A| × |Z|` and the dense
+//! tables the reader builds (`|A| × |S|²` for T, `|A| × |S|² × |Z|` for rewards that depend on
+//! the next state or the observation) must be at most [`crate::model::MAX_MODEL_ENTRIES`], with
+//! the error at the line of the first entry that needs them. A reward must satisfy
+//! `|R| / (1 − γ) ≤` [`crate::model::MAX_VALUE_MAGNITUDE`] (the largest value a policy could
+//! earn), with the error at the reward's line: larger rewards parse as finite numbers but the
+//! solver's sums overflow or drown in rounding (the reasons are on the constants).
 
 use crate::error::{PomdpError, Result};
 use crate::model::{Pomdp, PomdpTables};
 use std::path::Path;
 
-/// Largest `|A|·|S|²·|Z|` for which next-state/observation-dependent rewards are expanded densely.
-const MAX_FULL_REWARD_TABLE: usize = 1 << 26;
+/// Largest dense table the reader builds (see the module docs).
+const MAX_TABLE: usize = crate::model::MAX_MODEL_ENTRIES;
 
 /// Read and parse a Cassandra `.pomdp` file.
 pub fn read_pomdp_file(path: impl AsRef<Path>) -> Result<Pomdp> {
@@ -98,6 +107,8 @@ struct RewardEntry {
     s2: Spec,
     z: Spec,
     value: f64,
+    /// 1-based line of the value.
+    line: usize,
 }
 
 const KEYWORDS: [&str; 9] = [
@@ -269,20 +280,9 @@ impl Parser {
                     };
                     let (ns, na, no) = (st.len(), ac.len(), ob.len());
                     if !tables_ready {
-                        let t_size = na.checked_mul(ns).and_then(|x| x.checked_mul(ns));
-                        let o_size = na.checked_mul(ns).and_then(|x| x.checked_mul(no));
-                        match (t_size, o_size) {
-                            (Some(t), Some(o)) if t <= MAX_FULL_REWARD_TABLE && o <= MAX_FULL_REWARD_TABLE => {
-                                trans = vec![0.0; t];
-                                obs = vec![0.0; o];
-                            }
-                            _ => {
-                                return self.err(
-                                    line,
-                                    format!("model too large for dense tables ({ns} states, {na} actions, {no} observations)"),
-                                )
-                            }
-                        }
+                        let (t, o) = self.table_sizes(line, ns, na, no)?;
+                        trans = vec![0.0; t];
+                        obs = vec![0.0; o];
                         tables_ready = true;
                     }
                     let names = Names {
@@ -310,8 +310,27 @@ impl Parser {
         };
         let (ns, na, no) = (states.len(), actions.len(), observations.len());
         if !tables_ready {
-            trans = vec![0.0; na * ns * ns];
-            obs = vec![0.0; na * ns * no];
+            let (t, o) = self.table_sizes(self.last_line, ns, na, no)?;
+            trans = vec![0.0; t];
+            obs = vec![0.0; o];
+        }
+        // Rewards too large for the solver's arithmetic, named at their line (a discount of 1
+        // is refused by the model with its own message).
+        if discount < 1.0 {
+            if let Some(e) = rewards
+                .iter()
+                .find(|e| !crate::model::reward_in_range(e.value, discount))
+            {
+                return self.err(
+                    e.line,
+                    format!(
+                        "reward {:e} at discount {discount} allows values up to {:.2e}; expected |reward| / (1 − discount) ≤ {:e} (rescale the rewards)",
+                        e.value,
+                        e.value.abs() / (1.0 - discount),
+                        crate::model::MAX_VALUE_MAGNITUDE
+                    ),
+                );
+            }
         }
         let reward_table = expected_rewards(&rewards, &trans, &obs, ns, na, no).map_err(|m| {
             PomdpError::Parse {
@@ -340,6 +359,21 @@ impl Parser {
             PomdpError::InvalidModel(m) => PomdpError::InvalidModel(format!("{}: {m}", self.file)),
             other => other,
         })
+    }
+
+    /// Sizes of the dense T and O tables, or the error (at `line`) when the model is larger
+    /// than [`MAX_TABLE`] allows.
+    fn table_sizes(&self, line: usize, ns: usize, na: usize, no: usize) -> Result<(usize, usize)> {
+        if let Err(e) = crate::model::check_size(ns, na, no) {
+            return self.err(line, e.to_string());
+        }
+        match na.checked_mul(ns).and_then(|x| x.checked_mul(ns)) {
+            Some(t) if t <= MAX_TABLE => Ok((t, na * ns * no)),
+            _ => self.err(
+                line,
+                format!("model too large: the transition table of {na} actions × {ns} states × {ns} states is above {MAX_TABLE} entries; expected fewer states or actions"),
+            ),
+        }
     }
 
     fn name_list(&mut self, what: &str) -> Result<Vec<String>> {
@@ -570,29 +604,41 @@ impl Parser {
             if self.peek() == Some(":") {
                 self.pos += 1;
                 let z = self.spec(names, Kind::Observation)?;
+                let line = self.line();
                 let value = self.number("a reward")?;
-                out.push(RewardEntry { a, s, s2, z, value });
+                out.push(RewardEntry {
+                    a,
+                    s,
+                    s2,
+                    z,
+                    value,
+                    line,
+                });
             } else {
-                let row = self.numbers(no, "a reward")?;
-                for (z, value) in row.into_iter().enumerate() {
+                for z in 0..no {
+                    let line = self.line();
+                    let value = self.number("a reward")?;
                     out.push(RewardEntry {
                         a,
                         s,
                         s2,
                         z: Spec::One(z),
                         value,
+                        line,
                     });
                 }
             }
         } else {
-            let m = self.numbers(ns * no, "a reward")?;
-            for (i, value) in m.into_iter().enumerate() {
+            for i in 0..ns * no {
+                let line = self.line();
+                let value = self.number("a reward")?;
                 out.push(RewardEntry {
                     a,
                     s,
                     s2: Spec::One(i / no),
                     z: Spec::One(i % no),
                     value,
+                    line,
                 });
             }
         }
@@ -643,7 +689,7 @@ fn expected_rewards(
         .checked_mul(ns)
         .and_then(|x| x.checked_mul(ns))
         .and_then(|x| x.checked_mul(no))
-        .filter(|x| *x <= MAX_FULL_REWARD_TABLE)
+        .filter(|x| *x <= MAX_TABLE)
         .ok_or_else(|| {
             format!("rewards depend on next state or observation and the table of {na}×{ns}×{ns}×{no} entries is too large")
         })?;

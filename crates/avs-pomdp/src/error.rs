@@ -26,6 +26,19 @@ pub enum PomdpError {
     /// A model is inconsistent (probabilities that do not sum to one, NaN, sizes that disagree).
     #[error("invalid POMDP model: {0}")]
     InvalidModel(String),
+    /// A model is larger than the solvers can expand in bounded memory
+    /// ([`crate::model::MAX_MODEL_ENTRIES`]).
+    #[error("model too large: {states} states × {actions} actions × {observations} observations is above {limit} (the size of one look-ahead from a full belief); expected a smaller model")]
+    TooLarge {
+        /// |S|.
+        states: usize,
+        /// |A|.
+        actions: usize,
+        /// |Z|.
+        observations: usize,
+        /// [`crate::model::MAX_MODEL_ENTRIES`].
+        limit: usize,
+    },
     /// A view-cone problem or coverage request has a bad field.
     #[error("invalid view-cone input: field `{field}`: {message}")]
     InvalidInput {
@@ -38,7 +51,9 @@ pub enum PomdpError {
     #[error("invalid argument: {0}")]
     InvalidArgument(String),
     /// A solve ended with bounds that cannot be right (not finite, or the lower above the upper):
-    /// the model's numbers are beyond what f64 arithmetic carries (e.g. rewards near 1e300).
+    /// the model's numbers are beyond what f64 arithmetic carries. Models are checked when built
+    /// ([`crate::model::MAX_VALUE_MAGNITUDE`]), so this is the backstop that keeps such bounds
+    /// from ever being reported as a solution.
     #[error("the solve produced invalid bounds (lower {lower}, upper {upper}): {reason}")]
     Numerical {
         /// The lower bound at the initial belief.

@@ -50,6 +50,14 @@
 //!   normalisation leave the support. The solve also refuses to return bounds that are not finite
 //!   or crossed ([`PomdpError::Numerical`]); `tests/bounds_oracle.rs` checks the bounds against a
 //!   grid oracle on tiger up to γ = 0.999 and on random two-state POMDPs.
+//! * **Resource bounds.** A model is at most [`model::MAX_MODEL_ENTRIES`] (2²⁴) in
+//!   `|S| × |A| × |Z|` — the size of its observation table and of one look-ahead from a full
+//!   belief — and its rewards at most [`model::MAX_VALUE_MAGNITUDE`] (10¹²) in `|R| / (1 − γ)`;
+//!   the `.pomdp` reader reports both at the offending line before allocating. A solve's time
+//!   limit is checked inside trials and initial sweeps, a trial keeps at most
+//!   [`offline::MAX_TRIAL_ENTRIES`] numbers, and the fast informed bound is skipped (Q_MDP
+//!   corners instead) when its weights would exceed [`bounds::MAX_FIB_WEIGHTS`]. The reasons for
+//!   each number are on the constants; the issue-18 reproducers are in `tests/resource_bounds.rs`.
 //! * **Known limitation.** The sawtooth upper bound converges slowly on view-cone models with noisy
 //!   sensors (thousands of points for a 2-cone model at gap 1e-2), which is why sessions rely on
 //!   RTBSS over a bounded offline solve rather than on a converged policy. The initial upper bound

@@ -5,6 +5,50 @@ use crate::error::{PomdpError, Result};
 /// Tolerance on probability rows: a row of T or O must sum to one within this.
 pub const ROW_TOLERANCE: f64 = 1e-4;
 
+/// Largest `|S| × |A| × |Z|` of a model (and largest dense table the `.pomdp` reader builds:
+/// `|A| × |S|²` for T, `|A| × |S|² × |Z|` for rewards that depend on s' or z): 2²⁴ ≈ 16.8 M.
+///
+/// Why this product: the observation table holds `|A| × |S| × |Z|` numbers, and one look-ahead
+/// of the solvers from a belief over every state builds `|A| × |Z|` posteriors of up to `|S|`
+/// entries each — the same product, 16 bytes an entry. At the limit that is 134 MB for the table
+/// and 268 MB for the worst look-ahead, so any model that loads can be expanded. Counting only
+/// states and actions (as the reader once did) let a 9-line model with 1,000 states and 1,000
+/// observations through to a solve that grew past 5 GB. The largest model avs builds itself, a
+/// view-cone POMDP of [`crate::MAX_CONES`] cones, has 10,202 states, 201 actions and 2
+/// observations (4.1 M).
+pub const MAX_MODEL_ENTRIES: usize = 1 << 24;
+
+/// Largest `max |R(s, a)| / (1 − γ)` accepted: 10¹², the largest value a policy can earn.
+///
+/// Why: the solvers add, compare and subtract values of this size, and an f64 near 10¹²
+/// resolves steps of 1.2·10⁻⁴, still below the default target gap of 10⁻³; far beyond it the
+/// difference of the bounds is rounding noise (rewards of 10³⁰⁰ gave a lower bound above the
+/// upper, rewards of ±10³⁰⁸ gave `-inf` and a NaN gap). Real models are far below (tiger: 2·10³;
+/// view-cone sessions: about 10⁴), and rewards can always be rescaled without changing the
+/// optimal policy.
+pub const MAX_VALUE_MAGNITUDE: f64 = 1e12;
+
+/// Check `|S| × |A| × |Z|` against [`MAX_MODEL_ENTRIES`].
+pub(crate) fn check_size(ns: usize, na: usize, no: usize) -> Result<()> {
+    let size = ns.checked_mul(na).and_then(|x| x.checked_mul(no));
+    if size.is_some_and(|x| x <= MAX_MODEL_ENTRIES) {
+        Ok(())
+    } else {
+        Err(PomdpError::TooLarge {
+            states: ns,
+            actions: na,
+            observations: no,
+            limit: MAX_MODEL_ENTRIES,
+        })
+    }
+}
+
+/// Whether a reward of magnitude `r` keeps values within [`MAX_VALUE_MAGNITUDE`] at discount
+/// `discount` (compared as `r ≤ M (1 − γ)`, which cannot overflow).
+pub(crate) fn reward_in_range(r: f64, discount: f64) -> bool {
+    r.abs() <= MAX_VALUE_MAGNITUDE * (1.0 - discount)
+}
+
 /// A belief stored sparsely: `(state, probability)` pairs with positive probability, sorted by state.
 pub(crate) type Sparse = Vec<(usize, f64)>;
 
@@ -55,7 +99,8 @@ pub struct PomdpTables {
 impl Pomdp {
     /// Build a model from its tables, checking sizes, finiteness and that every row of T and O and
     /// the initial belief are probability distributions (within [`ROW_TOLERANCE`]; rows are then
-    /// renormalised exactly).
+    /// renormalised exactly). `|S| × |A| × |Z|` must be at most [`MAX_MODEL_ENTRIES`]
+    /// ([`PomdpError::TooLarge`]) and `|R| / (1 − γ)` at most [`MAX_VALUE_MAGNITUDE`].
     pub fn new(t: PomdpTables) -> Result<Self> {
         let (ns, na) = (t.states.len(), t.actions.len());
         if t.transitions.len() != na * ns * ns {
@@ -98,6 +143,7 @@ impl Pomdp {
                 t.discount
             )));
         }
+        check_size(ns, na, no)?;
         let check_len = |name: &str, v: &[f64], want: usize| -> Result<()> {
             if v.len() != want {
                 return Err(PomdpError::InvalidModel(format!(
@@ -115,6 +161,20 @@ impl Pomdp {
         check_len("observation_probs", &t.observation_probs, na * ns * no)?;
         check_len("rewards", &t.rewards, na * ns)?;
         check_len("initial", &t.initial, ns)?;
+        if let Some(i) = t
+            .rewards
+            .iter()
+            .position(|r| !reward_in_range(*r, t.discount))
+        {
+            return Err(PomdpError::InvalidModel(format!(
+                "reward R({}, {}) = {:e} at discount {} allows values up to {:.2e}; expected |R| / (1 − discount) ≤ {MAX_VALUE_MAGNITUDE:e} (rescale the rewards)",
+                t.states[i % ns],
+                t.actions[i / ns],
+                t.rewards[i],
+                t.discount,
+                t.rewards[i].abs() / (1.0 - t.discount)
+            )));
+        }
         if rows.len() != na * ns {
             return Err(PomdpError::InvalidModel(format!(
                 "sparse transitions have {} rows, expected {}",

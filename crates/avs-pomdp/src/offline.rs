@@ -7,11 +7,42 @@
 //! current belief is below `ε γ^{−t}`; then both bounds are backed up along the path in reverse.
 //! The solve ends when the gap `V̄(b₀) − V̲(b₀)` is at most the target, or the time/iteration budget is
 //! spent: the gap at the initial belief is what drives termination.
+//!
+//! ## Bounded time and memory
+//! * **The time limit is checked inside a trial**, before each step of the forward pass and each
+//!   backup, and inside the initial bounds' sweeps ([`Bounds::initial_until`]), not only between
+//!   trials: one trial on a model with many states and observations can take minutes (a trial
+//!   descends up to `log(ε / gap) / log γ` steps, each a look-ahead over every action and
+//!   observation). Stopping anywhere is safe, since every backup keeps both bounds valid, so a
+//!   limited solve returns within about one look-ahead of its limit with
+//!   [`StopReason::TimeLimit`].
+//! * **A trial's memory is bounded**: the forward pass keeps each step's look-ahead for the
+//!   backup while the trial holds at most [`MAX_TRIAL_ENTRIES`] numbers (beliefs, Q-values,
+//!   posteriors); beyond that, look-aheads are recomputed at backup (same values, more time),
+//!   and a trial whose beliefs alone reach the bound ends its descent there. Before this, a
+//!   model with 1,000 states and 1,000 observations stored 10⁶ posterior entries per step and
+//!   grew past 5 GB within one trial. Model size itself is bounded when the model is built
+//!   ([`crate::model::MAX_MODEL_ENTRIES`]).
+//! * **Results are checked** before they are returned: bounds that are not finite or cross
+//!   (lower above upper, beyond rounding) are [`PomdpError::Numerical`], never a "converged"
+//!   solution.
 
 use crate::bounds::Bounds;
 use crate::error::{PomdpError, Result};
-use crate::model::{to_sparse, Pomdp, Sparse};
+use crate::model::{to_sparse, Expansion, Pomdp, Sparse};
 use std::time::{Duration, Instant};
+
+/// Most numbers one HSVI trial keeps along its path (beliefs, upper Q-values and the stored
+/// look-aheads), [`crate::model::MAX_MODEL_ENTRIES`]: about 268 MB at 16 bytes an entry. See
+/// the module docs.
+pub const MAX_TRIAL_ENTRIES: usize = crate::model::MAX_MODEL_ENTRIES;
+
+/// Numbers held by one look-ahead.
+fn expansion_entries(exps: &[Expansion]) -> usize {
+    exps.iter()
+        .map(|(_, succ)| succ.len() + succ.iter().map(|(_, post)| post.len()).sum::<usize>())
+        .sum()
+}
 
 /// Budget and precision of an offline solve.
 #[derive(Debug, Clone)]
@@ -95,6 +126,8 @@ pub fn solve_from(
         )));
     }
     let start = Instant::now();
+    let deadline = opts.time_limit.and_then(|l| start.checked_add(l));
+    let out_of_time = || deadline.is_some_and(|d| Instant::now() >= d);
     let mut bounds = match bounds {
         Some(b) => {
             if b.corners.len() != m.n_states() {
@@ -104,7 +137,7 @@ pub fn solve_from(
             }
             b
         }
-        None => Bounds::initial(m, opts.init_iterations),
+        None => Bounds::initial_until(m, opts.init_iterations, deadline),
     };
     let b0 = to_sparse(b0);
     let gamma = m.discount();
@@ -127,25 +160,29 @@ pub fn solve_from(
         if trials >= opts.max_trials {
             break StopReason::TrialLimit;
         }
-        if let Some(limit) = opts.time_limit {
-            if start.elapsed() >= limit {
-                break StopReason::TimeLimit;
-            }
+        if out_of_time() {
+            break StopReason::TimeLimit;
         }
         trials += 1;
-        // Forward pass.
-        type Node = (Sparse, Vec<(f64, Vec<(f64, Sparse)>)>, Vec<f64>, usize);
+        // Forward pass. A node keeps its look-ahead (all actions' posteriors) for the backup
+        // while the trial is within its memory bound; otherwise it is recomputed there.
+        type Node = (Sparse, Option<Vec<Expansion>>, Vec<f64>, usize);
         let mut path: Vec<Node> = Vec::new();
+        let mut held = 0usize;
         let mut b = b0.clone();
         let mut t = 0usize;
         let mut threshold = eps;
         let mut known_width: Option<f64> = None;
         loop {
             let w = known_width.unwrap_or_else(|| width(&bounds, &b));
-            if w <= threshold || t >= max_depth {
+            if w <= threshold || t >= max_depth || out_of_time() {
                 break;
             }
-            let exps: Vec<(f64, Vec<(f64, Sparse)>)> = (0..m.n_actions())
+            held = held.saturating_add(b.len() + m.n_actions());
+            if held > MAX_TRIAL_ENTRIES && !path.is_empty() {
+                break;
+            }
+            let exps: Vec<Expansion> = (0..m.n_actions())
                 .map(|a| m.expand(&b, a, &mut scratch, &mut touched))
                 .collect();
             let mut best_a = 0;
@@ -188,7 +225,12 @@ pub fn solve_from(
                 }
             }
             let next = best_z.map(|z| exps[best_a].1[z].1.clone());
-            path.push((b, exps, qs, best_a));
+            let size = expansion_entries(&exps);
+            let keep = held.saturating_add(size) <= MAX_TRIAL_ENTRIES;
+            if keep {
+                held += size;
+            }
+            path.push((b, keep.then_some(exps), qs, best_a));
             match next {
                 Some(n) => b = n,
                 None => break,
@@ -197,14 +239,27 @@ pub fn solve_from(
             threshold = next_threshold;
             t += 1;
         }
-        // Backward pass.
+        // Backward pass (every backup keeps both bounds valid, so it may stop at the limit).
         for (b, exps, qs, best_a) in path.iter().rev() {
+            if out_of_time() {
+                break;
+            }
+            let recomputed;
+            let exps = match exps {
+                Some(e) => e,
+                None => {
+                    recomputed = (0..m.n_actions())
+                        .map(|a| m.expand(b, a, &mut scratch, &mut touched))
+                        .collect::<Vec<_>>();
+                    &recomputed
+                }
+            };
             bounds.backup(m, b, exps, Some((qs, *best_a)));
             backups += 1;
         }
         // Prune when the bounds have grown by half since the last pruning (pruning is quadratic).
         let size = bounds.n_upper_points() + bounds.alphas.len();
-        if size > last_pruned_size + last_pruned_size / 2 + 16 {
+        if size > last_pruned_size + last_pruned_size / 2 + 16 && !out_of_time() {
             bounds.prune_points();
             bounds.prune_alphas_by_witness(std::slice::from_ref(&b0));
             last_pruned_size = bounds.n_upper_points() + bounds.alphas.len();
@@ -247,4 +302,67 @@ pub fn solve_from(
         seconds: start.elapsed().as_secs_f64(),
         stop,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::PomdpTables;
+
+    fn coin() -> Pomdp {
+        // Two states, one informative observation pair, two actions.
+        Pomdp::new(PomdpTables {
+            states: vec!["a".into(), "b".into()],
+            actions: vec!["stay".into(), "swap".into()],
+            observations: vec!["sa".into(), "sb".into()],
+            discount: 0.9,
+            transitions: vec![1.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0],
+            observation_probs: vec![0.8, 0.2, 0.2, 0.8, 0.8, 0.2, 0.2, 0.8],
+            rewards: vec![1.0, 0.0, 0.0, 1.0],
+            initial: vec![0.5, 0.5],
+        })
+        .unwrap()
+    }
+
+    /// A solve whose bounds cross or are not finite is an error, never a "converged" result
+    /// (issue 18: rewards of 1e300 printed lower > upper and "Converged").
+    #[test]
+    fn crossed_or_infinite_bounds_are_an_error_not_a_solution() {
+        let m = coin();
+        let opts = OfflineOptions {
+            max_trials: 10,
+            ..Default::default()
+        };
+        assert!(solve(&m, &opts).is_ok());
+        let mut crossed = Bounds::initial(&m, 100);
+        crossed.corners.iter_mut().for_each(|c| *c -= 100.0);
+        match solve_from(&m, m.initial_belief(), Some(crossed), &opts) {
+            Err(PomdpError::Numerical { lower, upper, .. }) => assert!(lower > upper),
+            other => panic!("expected a numerical error, got {other:?}"),
+        }
+        let mut infinite = Bounds::initial(&m, 100);
+        infinite.alphas[0].values[0] = f64::INFINITY;
+        assert!(matches!(
+            solve_from(&m, m.initial_belief(), Some(infinite), &opts),
+            Err(PomdpError::Numerical { .. })
+        ));
+    }
+
+    /// A time limit stops a solve even inside its first trial: a limit of zero returns the
+    /// initial bounds at once, marked as stopped by time.
+    #[test]
+    fn a_zero_time_limit_returns_the_initial_bounds() {
+        let m = coin();
+        let sol = solve(
+            &m,
+            &OfflineOptions {
+                time_limit: Some(Duration::ZERO),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(sol.stop, StopReason::TimeLimit);
+        assert_eq!(sol.trials, 0);
+        assert!(sol.lower <= sol.upper);
+    }
 }

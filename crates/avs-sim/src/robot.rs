@@ -313,7 +313,7 @@ impl<'w> SimRobot<'w> {
         let (truth, known) = (&self.truth, &mut self.known);
         let mut revealed = 0;
         let mut relabelled = 0;
-        for end in laser.ray_ends(self.pose, truth.resolution()) {
+        for end in laser.ray_ends(self.pose, truth) {
             walk_segment(truth, [self.pose[0], self.pose[1]], end, |c, r| {
                 if !truth.contains(c, r) {
                     return false;

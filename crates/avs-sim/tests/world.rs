@@ -109,3 +109,25 @@ fn camera_sees_objects_in_its_field_of_view_with_line_of_sight_only() {
         .expect("shelf in the cone");
     assert!(!s.visible);
 }
+
+/// Issue 18 reproducer: a laser of range 1e6 m (or a field of view of 1e9°) made every scan cast
+/// fov × range / resolution rays (a minute and more per scan). Rays are now clipped to the map:
+/// the robot starts, scans and moves, and sees exactly what a 360° laser reaching across the
+/// map sees.
+#[test]
+fn an_absurd_laser_is_clipped_to_the_map() {
+    let w = office();
+    let mut env = w.env.clone();
+    env.laser.range = 1e6;
+    env.laser.fov_deg = 1e9;
+    let absurd = World::new(env.clone(), Path::new(".")).unwrap();
+    env.laser.range = avs_map::raycast::max_ray_length(&w.truth);
+    env.laser.fov_deg = 360.0;
+    let reaching = World::new(env, Path::new(".")).unwrap();
+    let mut a = SimRobot::new(&absurd, 1);
+    let mut b = SimRobot::new(&reaching, 1);
+    assert_eq!(a.known, b.known);
+    assert!(a.move_to([6.0, 1.2]).reached && b.move_to([6.0, 1.2]).reached);
+    assert_eq!(a.scan(), b.scan());
+    assert_eq!(a.known, b.known);
+}

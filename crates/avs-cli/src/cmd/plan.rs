@@ -38,7 +38,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let t0 = Instant::now();
     let d = pddl::parse_domain(&dname, &dtext)?;
     let p = pddl::parse_problem(&pname, &ptext)?;
-    let task = pddl::ground(&dname, &d, &p)?;
+    let task = pddl::ground(&dname, &d, &p)
+        .with_context(|| format!("grounding {dname} with problem {pname}"))?;
     let t_ground = t0.elapsed().as_secs_f64();
     let mode = if args.fast { Mode::Fast } else { Mode::Optimal };
     let opts = SearchOptions {
