@@ -151,7 +151,18 @@ pub struct PlaceMap {
     /// of the one before (a look, a turn, the sync after a move), and detection is a pure
     /// function of the grid.
     door_cache: Option<(OccupancyGrid, Vec<DoorHypothesis>)>,
+    /// The placeholders of the last update and what they were found from (the known grid, and
+    /// every place with its position and whether it is a door place): as pure a function of
+    /// those as the doors are of the grid, and most of an update's time on large maps.
+    placeholder_cache: Option<PlaceholderKey>,
 }
+
+/// The inputs of [`PlaceMap::find_placeholders`] and its answer.
+type PlaceholderKey = (
+    OccupancyGrid,
+    Vec<(NodeIndex, [f64; 2], bool)>,
+    Vec<Placeholder>,
+);
 
 impl PlaceMap {
     /// An empty place map.
@@ -163,6 +174,7 @@ impl PlaceMap {
             params,
             current: None,
             door_cache: None,
+            placeholder_cache: None,
         }
     }
 
@@ -269,7 +281,16 @@ impl PlaceMap {
                 self.graph[p].door = Some(i);
             }
         }
-        self.placeholders = self.find_placeholders(known);
+        let places: Vec<(NodeIndex, [f64; 2], bool)> = self
+            .graph
+            .node_indices()
+            .map(|n| (n, self.graph[n].pos, self.graph[n].door.is_some()))
+            .collect();
+        self.placeholders = match self.placeholder_cache.take() {
+            Some((grid, ps, phs)) if &grid == known && ps == places => phs,
+            _ => self.find_placeholders(known),
+        };
+        self.placeholder_cache = Some((known.clone(), places, self.placeholders.clone()));
     }
 
     /// The room of every cell of `known` (row-major, `MapRoom::id`), or `None` for cells no

@@ -63,6 +63,13 @@ pub(crate) struct ConeSet {
     pub covered_share: f64,
 }
 
+/// See [`Memory::spurious_cache`].
+pub(crate) type SpuriousCache = (
+    avs_map::grid::OccupancyGrid,
+    Vec<([f64; 2], [f64; 2])>,
+    Vec<bool>,
+);
+
 /// A placeholder offered to the planner: a frontier placeholder of the place map, or a known
 /// but unvisited free area (rooms exist only where the robot has been).
 #[derive(Debug, Clone, Copy)]
@@ -112,6 +119,11 @@ pub(crate) struct Memory {
     pub phs: Vec<(usize, Cand)>,
     /// Conceptual-map ids of the unvisited-area placeholders set at the last sync.
     pub extra_ids: Vec<u64>,
+    /// The last unvisited areas and what they were computed from.
+    pub unvisited_cache: Option<(sync::UnvisitedKey, sync::Unvisited)>,
+    /// The last placeholders' (place, placeholder) positions, the grid they were checked on,
+    /// and which had no short known path (spurious).
+    pub spurious_cache: Option<SpuriousCache>,
     /// The plan place the robot last moved to, with its position.
     pub last_target: Option<(Target, [f64; 2])>,
     /// Sightings a closer look did not confirm: (class, position), one entry per failed
@@ -200,6 +212,8 @@ impl Memory {
             blocked: BTreeSet::new(),
             phs: Vec::new(),
             extra_ids: Vec::new(),
+            unvisited_cache: None,
+            spurious_cache: None,
             last_target: None,
             rejected: Vec::new(),
             at: [0.0, 0.0],
