@@ -24,11 +24,13 @@ fn bench_json(args: &[&str]) -> serde_json::Value {
 fn without_timings(mut v: serde_json::Value) -> serde_json::Value {
     if let Some(o) = v.as_object_mut() {
         o.remove("plan_ms_median");
+        o.remove("compute_s_max");
         if let Some(runs) = o.get_mut("runs").and_then(|r| r.as_array_mut()) {
             for r in runs {
                 if let Some(r) = r.as_object_mut() {
                     r.remove("plan_ms_median");
                     r.remove("dt_ms_median");
+                    r.remove("compute_s");
                 }
             }
         }

@@ -441,3 +441,63 @@ fn the_informed_strategy_without_a_told_room_is_an_error_naming_it() {
         .to_string();
     assert!(e.contains("strategy") && e.contains("in_region"), "{e}");
 }
+
+#[test]
+fn a_cerealbox_inside_a_kitchen_cupboard_is_found_by_a_search_in_the_cupboard() {
+    // The shipped office with its kitchen's table and counter taken out, a cupboard (a shelf,
+    // 1.8 m high) against the kitchen's wall, and the cerealbox on its middle level: only a
+    // search IN the cupboard (`002` §II-B.1's L_o) looks where the box is.
+    let path = shipped("domains/environments/office.yaml");
+    let mut env: avs_format::environment::Environment = avs_format::load_yaml(&path).unwrap();
+    env.objects
+        .retain(|o| o.id != "table1" && o.id != "counter1" && o.id != "mug1");
+    let mut cupboard = env
+        .objects
+        .iter()
+        .find(|o| o.id == "shelf1")
+        .expect("the office has a shelf")
+        .clone();
+    cupboard.id = "cupboard1".into();
+    cupboard.room = "kitchen".into();
+    cupboard.pose.x = 6.1;
+    cupboard.pose.y = 7.45;
+    cupboard.pose.yaw_deg = 0.0;
+    let (cx, cy) = (cupboard.pose.x, cupboard.pose.y);
+    env.objects.push(cupboard);
+    let box1 = env
+        .objects
+        .iter_mut()
+        .find(|o| o.id == "cerealbox1")
+        .expect("the office has a cerealbox");
+    box1.on = None;
+    box1.r#in = Some("cupboard1".into());
+    box1.pose.x = cx + 0.2;
+    box1.pose.y = cy;
+    box1.pose.z = 0.9;
+    let world = World::new(env, path.parent().unwrap()).unwrap();
+    let r = search(&world, 1, FailureRates::default(), "cerealbox");
+    let found = r.found.as_ref().expect("the cerealbox is found");
+    let err = (found.pose.x - cx - 0.2).hypot(found.pose.y - cy);
+    assert!(err < 1.0, "reported {:?}, {err:.2} m off", found.pose);
+    // The session that found it searched IN a landmark the agent had found (an object, not a
+    // room), after an assumption that the box is in it.
+    let inside = r.trace.iter().any(|e| match e {
+        Event::PlanMade { steps, .. } => steps.iter().any(|s| {
+            let w: Vec<&str> = s.split_whitespace().collect();
+            matches!(w.as_slice(), ["ASSUME-OBJECT-EXISTS", "cerealbox", "IN", lm, "shelf", _]
+                if lm.starts_with("object"))
+        }),
+        _ => false,
+    });
+    assert!(inside, "a plan assumes the cerealbox in the shelf");
+    let found_by = r.trace.iter().rev().find_map(|e| match e {
+        Event::DtSessionStarted { search, .. } => Some(search.clone()),
+        _ => None,
+    });
+    let found_by = found_by.expect("a session ran");
+    let w: Vec<&str> = found_by.split_whitespace().collect();
+    assert!(
+        matches!(w.as_slice(), ["SEARCHFOROBJECT", "cerealbox", "IN", lm, _] if lm.starts_with("object")),
+        "the last session searched the cupboard: {found_by}"
+    );
+}

@@ -54,7 +54,7 @@ pub(crate) enum Action {
 }
 
 /// The operators the executive runs, with their arities (the domain's parameter counts).
-const OPERATORS: [(&str, usize); 8] = [
+const OPERATORS: [(&str, usize); 10] = [
     ("move", 3),
     ("enter", 3),
     ("explore-placeholder", 4),
@@ -62,22 +62,25 @@ const OPERATORS: [(&str, usize); 8] = [
     ("createviewcones-on", 4),
     ("searchforobject-in", 3),
     ("searchforobject-on", 4),
+    ("createviewcones-inside", 4),
+    ("searchforobject-inside", 4),
     ("reportposition", 2),
 ];
 
 /// The functions the agent supplies to the planner ([`super::Probs`]), with their arities.
-const FUNCTIONS: [(&str, usize); 7] = [
+const FUNCTIONS: [(&str, usize); 8] = [
     ("distance", 2),
     ("p-leads-to-room", 2),
     ("p-category", 2),
     ("p-object-in", 3),
     ("p-object-on", 3),
+    ("p-object-inside", 3),
     ("p-detect", 1),
     ("p-detect-in", 2),
 ];
 
 /// The state variables the binding sets, with their parameter counts.
-const VARIABLES: [(&str, usize); 12] = [
+const VARIABLES: [(&str, usize); 14] = [
     ("robot-at", 0),
     ("robot-room", 0),
     ("category", 1),
@@ -86,9 +89,11 @@ const VARIABLES: [(&str, usize); 12] = [
     ("class", 1),
     ("located-in", 1),
     ("located-on", 1),
+    ("located-inside", 1),
     ("found", 1),
     ("cones-in", 2),
     ("cones-on", 2),
+    ("cones-inside", 2),
     ("reported", 1),
 ];
 
@@ -236,9 +241,17 @@ impl Binding {
     }
 
     fn on(&self, name: &str) -> Result<ConeLoc, ReplanReason> {
+        self.landmark(name, ConeLoc::On)
+    }
+
+    fn inside(&self, name: &str) -> Result<ConeLoc, ReplanReason> {
+        self.landmark(name, ConeLoc::In)
+    }
+
+    fn landmark(&self, name: &str, loc: fn(usize) -> ConeLoc) -> Result<ConeLoc, ReplanReason> {
         self.objects
             .get(name)
-            .map(|&k| ConeLoc::On(k))
+            .map(|&k| loc(k))
             .ok_or_else(|| ReplanReason::UnknownObject {
                 object: name.to_string(),
             })
@@ -292,6 +305,16 @@ impl Binding {
             ("searchforobject-on", [l, lm, o, _]) => Ok(Action::Search {
                 label: l.to_string(),
                 loc: self.on(lm)?,
+                obj: self.obj(o),
+                display: step.display.clone(),
+            }),
+            ("createviewcones-inside", [l, lm, _, _]) => Ok(Action::CreateCones {
+                label: l.to_string(),
+                loc: self.inside(lm)?,
+            }),
+            ("searchforobject-inside", [l, lm, o, _]) => Ok(Action::Search {
+                label: l.to_string(),
+                loc: self.inside(lm)?,
                 obj: self.obj(o),
                 display: step.display.clone(),
             }),

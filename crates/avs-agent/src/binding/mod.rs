@@ -14,7 +14,7 @@ pub(crate) use probs::Probs;
 
 use crate::memory::{ConeLoc, Memory, Target};
 use avs_concepts::RoomId;
-use avs_format::knowledge::{Knowledge, Relation};
+use avs_format::knowledge::Knowledge;
 use avs_map::places::dist;
 use avs_plan::problem::Problem;
 use petgraph::graph::NodeIndex;
@@ -83,15 +83,14 @@ pub(crate) struct Binding {
 }
 
 /// The goal's class and, transitively, the landmark classes an object of a relevant class lies
-/// on with a positive rate in some room category (the relation of the domain's
-/// `assume-object-exists-on`). Only these can take part in a plan for the goal.
+/// on or in with a positive rate in some room category (the relations of the domain's
+/// `assume-object-exists-on` and `-inside`). Only these can take part in a plan for the goal.
 pub(crate) fn relevant_classes(knowledge: &Knowledge, goal: &str) -> BTreeSet<String> {
     let mut relevant = BTreeSet::from([goal.to_string()]);
     let mut todo = vec![goal.to_string()];
     while let Some(l) = todo.pop() {
         for r in &knowledge.landmark_rates {
             if r.object == l
-                && r.relation == Relation::On
                 && r.rates.iter().any(|&x| x > 0.0)
                 && relevant.insert(r.landmark.clone())
             {
@@ -230,7 +229,9 @@ impl Binding {
             let on =
                 o.on.filter(|j| !mem.exhausted.contains(&(*j, goal.to_string())))
                     .map_or("none".to_string(), names::object);
-            p = p.init(&format!("located-on({name}) = {on}"));
+            p = p
+                .init(&format!("located-on({name}) = {on}"))
+                .init(&format!("located-inside({name}) = none"));
             s.objects.insert(name, k);
         }
         for ((l, r), known) in &mem.stalled {
@@ -246,6 +247,9 @@ impl Binding {
                 }
                 ConeLoc::On(k) if s.objects.contains_key(&names::object(k)) => {
                     p = p.init(&format!("cones-on({l}, {}) = yes", names::object(k)));
+                }
+                ConeLoc::In(k) if s.objects.contains_key(&names::object(k)) => {
+                    p = p.init(&format!("cones-inside({l}, {}) = yes", names::object(k)));
                 }
                 _ => {}
             }
@@ -304,6 +308,7 @@ impl Binding {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use avs_format::knowledge::Relation;
 
     fn office() -> Knowledge {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../knowledge/office.yaml");
@@ -317,14 +322,16 @@ mod tests {
     #[test]
     fn relevant_classes_are_the_goal_and_the_landmarks_it_lies_on() {
         let k = office();
-        // office.yaml: cereal boxes lie on tables and counters (and *in* shelves, which the
-        // domain's on-landmark search does not use); staplers on desks; markers on tables
-        // and desks.
+        // office.yaml: cereal boxes lie on tables and counters and in shelves; staplers on
+        // desks; markers on tables and desks.
         assert_eq!(
             relevant_classes(&k, "cerealbox"),
-            set(&["cerealbox", "counter", "table"])
+            set(&["cerealbox", "counter", "shelf", "table"])
         );
-        assert_eq!(relevant_classes(&k, "stapler"), set(&["desk", "stapler"]));
+        assert_eq!(
+            relevant_classes(&k, "stapler"),
+            set(&["desk", "shelf", "stapler"])
+        );
         assert_eq!(
             relevant_classes(&k, "whiteboardmarker"),
             set(&["desk", "table", "whiteboardmarker"])

@@ -55,7 +55,11 @@ impl Functions for Probs<'_> {
                 // A hypothesised room: the prior (its category is assumed with the room).
                 None => *m.prior.get(cat(c)?)?,
             },
-            ("p-object-in" | "p-object-on", [l, ..]) if !s.relevant.contains(*l) => 0.0,
+            ("p-object-in" | "p-object-on" | "p-object-inside", [l, ..])
+                if !s.relevant.contains(*l) =>
+            {
+                0.0
+            }
             ("p-object-in", [l, r, c]) => {
                 let k = cat(c)?;
                 match s.rooms.get(*r) {
@@ -63,9 +67,14 @@ impl Functions for Probs<'_> {
                     None => exists(*m.room_rates.get(m.class(l).ok()?)?.get(k)?),
                 }
             }
-            ("p-object-on", [l, lc, c]) => {
+            ("p-object-on" | "p-object-inside", [l, lc, c]) => {
                 let k = cat(c)?;
-                let r = m.landmark_rate(m.class(l).ok()?, Relation::On, m.class(lc).ok()?);
+                let rel = if name == "p-object-on" {
+                    Relation::On
+                } else {
+                    Relation::In
+                };
+                let r = m.landmark_rate(m.class(l).ok()?, rel, m.class(lc).ok()?);
                 exists(*r.get(k)?)
             }
             ("p-detect", [_]) => self.p_detect,

@@ -44,11 +44,24 @@ pub(crate) struct Known {
     pub on: Option<usize>,
 }
 
-/// Where view cones are planned: a room, or on a known object (index into the objects).
+/// Where view cones are planned: a room, or on or in a known object (index into the
+/// objects).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub(crate) enum ConeLoc {
     Room(u64),
     On(usize),
+    /// The interior of a landmark (a shelf's or cupboard's levels, `002` §II-B.1's L_o).
+    In(usize),
+}
+
+impl ConeLoc {
+    /// The landmark object, for a location on or in one.
+    pub fn landmark(self) -> Option<usize> {
+        match self {
+            ConeLoc::Room(_) => None,
+            ConeLoc::On(k) | ConeLoc::In(k) => Some(k),
+        }
+    }
 }
 
 /// The view cones of one class at one location (CREATEVIEWCONES).

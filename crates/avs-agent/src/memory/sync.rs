@@ -232,8 +232,7 @@ impl Memory {
                 for dc in -r..=r {
                     if grid.get_i(c0 + dc, r0 + dr) == Cell::Free {
                         let (cx, cy) = grid.cell_center(c0 + dc, r0 + dr);
-                        if dist([cx, cy], pos) <= 2.5 && !seen_from_a_place([cx, cy])
-                        {
+                        if dist([cx, cy], pos) <= 2.5 && !seen_from_a_place([cx, cy]) {
                             cells += 1;
                         }
                     }

@@ -61,8 +61,15 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
     let set = mem.cones[&(label.to_string(), loc)].clone();
     let location = match loc {
         ConeLoc::Room(r) => Location::Room(RoomId(r)),
-        ConeLoc::On(k) => match mem.objects[k].landmark {
-            Some(l) => Location::Landmark(l, Relation::On),
+        ConeLoc::On(k) | ConeLoc::In(k) => match mem.objects[k].landmark {
+            Some(l) => Location::Landmark(
+                l,
+                if matches!(loc, ConeLoc::In(_)) {
+                    Relation::In
+                } else {
+                    Relation::On
+                },
+            ),
             None => {
                 return Ok(StepEnd::Replan(ReplanReason::NotALandmark {
                     object: names::object(k),
@@ -281,7 +288,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
             };
             let on = match loc {
                 ConeLoc::On(j) => Some(j),
-                ConeLoc::Room(_) => None,
+                ConeLoc::Room(_) | ConeLoc::In(_) => None,
             };
             mem.objects.push(Known {
                 class: label.to_string(),
@@ -352,7 +359,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                     cones: set.views.len(),
                 }));
             }
-            if let ConeLoc::On(k) = loc {
+            if let Some(k) = loc.landmark() {
                 mem.exhausted.insert((k, label.to_string()));
             }
             let p_now = mem.wm.concepts.p_object_at(location, label).unwrap_or(0.0);
@@ -434,7 +441,7 @@ fn record_looks(
 fn detection_in(cx: Ctx, mem: &Memory, d: &Detection, loc: ConeLoc, from: Pose2D) -> bool {
     let known = !mem.is_new_sighting(d);
     match loc {
-        ConeLoc::On(k) => {
+        ConeLoc::On(k) | ConeLoc::In(k) => {
             let o = &mem.objects[k];
             let half = cx
                 .knowledge

@@ -61,8 +61,9 @@ pub(crate) fn create_cones(
 }
 
 /// The points of location `loc` where an object of `class` may be: a room's known cells at
-/// the search heights ([`room_points`]), or a grid over a landmark's top at the height an
-/// object of `class` standing on it has its centre.
+/// the search heights ([`room_points`]), a grid over a landmark's top at the height an
+/// object of `class` standing on it has its centre, or the same grid inside the landmark at
+/// the centre heights of its levels ([`interior_levels`]).
 pub(crate) fn location_points(
     cx: Ctx,
     mem: &Memory,
@@ -71,21 +72,39 @@ pub(crate) fn location_points(
 ) -> Vec<[f64; 3]> {
     match loc {
         ConeLoc::Room(r) => room_points(cx, mem, r, class, false),
-        ConeLoc::On(k) => {
+        ConeLoc::On(k) | ConeLoc::In(k) => {
             let o = &mem.objects[k];
             let lm = cx.knowledge.class(&o.class);
             let (w, h) = lm.map_or((1.0, 0.75), |c| (c.size[0].max(c.size[1]), c.size[2]));
-            let z = h + class.size[2] * 0.5;
+            let heights = match loc {
+                ConeLoc::In(_) => interior_levels(h, class.size[2]),
+                _ => vec![h + class.size[2] * 0.5],
+            };
             let mut pts = Vec::new();
             let n = ((w / 0.2).ceil() as i64).max(1);
-            for i in -n / 2..=n / 2 {
-                for j in -n / 2..=n / 2 {
-                    pts.push([o.pos.x + 0.2 * i as f64, o.pos.y + 0.2 * j as f64, z]);
+            for &z in &heights {
+                for i in -n / 2..=n / 2 {
+                    for j in -n / 2..=n / 2 {
+                        pts.push([o.pos.x + 0.2 * i as f64, o.pos.y + 0.2 * j as f64, z]);
+                    }
                 }
             }
             pts
         }
     }
+}
+
+/// The centre heights of an object of height `object_h` standing on the levels of a landmark
+/// of height `h`: the paper names the interior of a landmark (`002` §II-B.1) but not its
+/// levels, so the choice here is an expert's one: shelves about every 0.4 m from the floor
+/// (a shelf, a cupboard, a bookcase), at least one level, none above the landmark's top.
+pub(crate) fn interior_levels(h: f64, object_h: f64) -> Vec<f64> {
+    const LEVEL_M: f64 = 0.4;
+    let levels = ((h / LEVEL_M).floor() as usize).max(1);
+    let step = h / levels as f64;
+    (0..levels)
+        .map(|i| (i as f64 * step + 0.5 * object_h).min(h))
+        .collect()
 }
 
 /// View planning for `label` at `loc` (CREATEVIEWCONES, Sjöö et al. `004` §2.1): cones
@@ -114,7 +133,7 @@ pub(crate) fn plan_cones(
     let points = points.unwrap_or_else(|| location_points(cx, mem, class, loc));
     let (center, reach): (Option<[f64; 2]>, f64) = match loc {
         ConeLoc::Room(_) => (None, 0.0),
-        ConeLoc::On(k) => {
+        ConeLoc::On(k) | ConeLoc::In(k) => {
             let o = &mem.objects[k];
             (Some([o.pos.x, o.pos.y]), class.detection_range[1] + 0.5)
         }
@@ -123,7 +142,7 @@ pub(crate) fn plan_cones(
     // small object's detection range wherever the furniture lets the robot stand.
     let spacing = match loc {
         ConeLoc::Room(_) => t.pose_spacing,
-        ConeLoc::On(_) => 0.5 * t.pose_spacing,
+        ConeLoc::On(_) | ConeLoc::In(_) => 0.5 * t.pose_spacing,
     };
     let poses: Vec<[f64; 3]> = mem
         .with_trav(false, |tr| standable(grid, tr, spacing))

@@ -146,6 +146,10 @@ pub fn stand_in(name: &str, args: &[&str], xy: &HashMap<String, (f64, f64)>) -> 
             ("mug", "table", _) => 0.4,
             _ => 0.02,
         },
+        ("p-object-inside", [l, lc, c]) => match (*l, *lc, *c) {
+            ("cerealbox", "shelf", "kitchen") => 0.2,
+            _ => 0.0,
+        },
         ("p-detect", [_]) | ("p-detect-in", [_, _]) => 0.8,
         _ => return None,
     })
