@@ -28,6 +28,7 @@ pub mod explore;
 pub mod geometry;
 pub mod grid;
 pub mod image_io;
+pub mod memo;
 pub mod metrics;
 pub mod nav;
 pub mod places;

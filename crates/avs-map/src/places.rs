@@ -30,6 +30,7 @@
 
 use crate::doors::{detect_doors, DoorHypothesis, DoorParams};
 use crate::grid::{Cell, OccupancyGrid};
+use crate::memo::Memo;
 use crate::raycast::line_of_sight;
 use petgraph::graph::NodeIndex;
 use petgraph::stable_graph::StableUnGraph;
@@ -150,19 +151,16 @@ pub struct PlaceMap {
     /// The known grid of the last door detection and its hypotheses: most updates see the map
     /// of the one before (a look, a turn, the sync after a move), and detection is a pure
     /// function of the grid.
-    door_cache: Option<(OccupancyGrid, Vec<DoorHypothesis>)>,
+    door_cache: Memo<OccupancyGrid, Vec<DoorHypothesis>>,
     /// The placeholders of the last update and what they were found from (the known grid, and
     /// every place with its position and whether it is a door place): as pure a function of
     /// those as the doors are of the grid, and most of an update's time on large maps.
-    placeholder_cache: Option<PlaceholderKey>,
+    placeholder_cache: Memo<PlaceholderInputs, Vec<Placeholder>>,
 }
 
-/// The inputs of [`PlaceMap::find_placeholders`] and its answer.
-type PlaceholderKey = (
-    OccupancyGrid,
-    Vec<(NodeIndex, [f64; 2], bool)>,
-    Vec<Placeholder>,
-);
+/// What [`PlaceMap::find_placeholders`] reads: the known grid, and every place with its
+/// position and whether it is a door place.
+type PlaceholderInputs = (OccupancyGrid, Vec<(NodeIndex, [f64; 2], bool)>);
 
 impl PlaceMap {
     /// An empty place map.
@@ -173,8 +171,8 @@ impl PlaceMap {
             placeholders: Vec::new(),
             params,
             current: None,
-            door_cache: None,
-            placeholder_cache: None,
+            door_cache: Memo::default(),
+            placeholder_cache: Memo::default(),
         }
     }
 
@@ -242,22 +240,18 @@ impl PlaceMap {
         self.doors.retain(|d| d.confirmed);
         // Doorways seen from one side have unknown space behind them: detect on the optimistic
         // map (unknown taken as free) and keep the hypotheses whose opening the robot has seen.
-        let hypotheses = match &self.door_cache {
-            Some((grid, hs)) if grid == known => hs.clone(),
-            _ => {
-                let mut optimistic = known.clone();
-                for row in 0..known.height() {
-                    for col in 0..known.width() {
-                        if known.get(col, row) == Cell::Unknown {
-                            optimistic.set(col, row, Cell::Free);
-                        }
+        let params = &self.params.doors;
+        let hypotheses = self.door_cache.get_or_insert_with(known.clone(), || {
+            let mut optimistic = known.clone();
+            for row in 0..known.height() {
+                for col in 0..known.width() {
+                    if known.get(col, row) == Cell::Unknown {
+                        optimistic.set(col, row, Cell::Free);
                     }
                 }
-                let hs = detect_doors(&optimistic, &self.params.doors);
-                self.door_cache = Some((known.clone(), hs.clone()));
-                hs
             }
-        };
+            detect_doors(&optimistic, params)
+        });
         for h in hypotheses {
             let (c, r) = known.world_to_cell(h.center[0], h.center[1]);
             if known.get_i(c, r) != Cell::Free || !in_a_wall(known, &h) {
@@ -286,11 +280,10 @@ impl PlaceMap {
             .node_indices()
             .map(|n| (n, self.graph[n].pos, self.graph[n].door.is_some()))
             .collect();
-        self.placeholders = match self.placeholder_cache.take() {
-            Some((grid, ps, phs)) if &grid == known && ps == places => phs,
-            _ => self.find_placeholders(known),
-        };
-        self.placeholder_cache = Some((known.clone(), places, self.placeholders.clone()));
+        let mut memo = std::mem::take(&mut self.placeholder_cache);
+        self.placeholders =
+            memo.get_or_insert_with((known.clone(), places), || self.find_placeholders(known));
+        self.placeholder_cache = memo;
     }
 
     /// The room of every cell of `known` (row-major, `MapRoom::id`), or `None` for cells no

@@ -13,6 +13,7 @@ use crate::world_model::WorldModel;
 use avs_concepts::{LandmarkId, RoomId};
 use avs_format::knowledge::Knowledge;
 use avs_map::grid::{Cell, OccupancyGrid};
+use avs_map::memo::Memo;
 use avs_map::nav::{shortest_path_within, Traversability};
 use avs_map::places::dist;
 use avs_map::raycast::line_of_sight;
@@ -76,12 +77,8 @@ pub(crate) struct ConeSet {
     pub covered_share: f64,
 }
 
-/// See [`Memory::spurious_cache`].
-pub(crate) type SpuriousCache = (
-    avs_map::grid::OccupancyGrid,
-    Vec<([f64; 2], [f64; 2])>,
-    Vec<bool>,
-);
+/// A (from, to) pair of positions.
+pub(crate) type Segment = ([f64; 2], [f64; 2]);
 
 /// A placeholder offered to the planner: a frontier placeholder of the place map, or a known
 /// but unvisited free area (rooms exist only where the robot has been).
@@ -133,10 +130,10 @@ pub(crate) struct Memory {
     /// Conceptual-map ids of the unvisited-area placeholders set at the last sync.
     pub extra_ids: Vec<u64>,
     /// The last unvisited areas and what they were computed from.
-    pub unvisited_cache: Option<(sync::UnvisitedKey, sync::Unvisited)>,
-    /// The last placeholders' (place, placeholder) positions, the grid they were checked on,
-    /// and which had no short known path (spurious).
-    pub spurious_cache: Option<SpuriousCache>,
+    pub unvisited_cache: Memo<sync::UnvisitedKey, sync::Unvisited>,
+    /// Which placeholders had no short known path from their place (spurious), by the grid
+    /// and the (place, placeholder) positions they were checked on.
+    pub spurious_cache: Memo<(OccupancyGrid, Vec<Segment>), Vec<bool>>,
     /// The plan place the robot last moved to, with its position.
     pub last_target: Option<(Target, [f64; 2])>,
     /// Sightings a closer look did not confirm: (class, position), one entry per failed
@@ -225,8 +222,8 @@ impl Memory {
             blocked: BTreeSet::new(),
             phs: Vec::new(),
             extra_ids: Vec::new(),
-            unvisited_cache: None,
-            spurious_cache: None,
+            unvisited_cache: Memo::default(),
+            spurious_cache: Memo::default(),
             last_target: None,
             rejected: Vec::new(),
             at: [0.0, 0.0],

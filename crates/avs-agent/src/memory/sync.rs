@@ -2,7 +2,7 @@
 //! rooms, the conceptual map), the room of every cell, and the placeholders offered to the
 //! planner under stable names — frontier placeholders of the place map and unvisited areas.
 
-use super::{standable, Cand, Memory, PhEntry};
+use super::{standable, Cand, Memory, PhEntry, Segment};
 use crate::AgentError;
 use avs_concepts::PlaceholderId;
 use avs_map::grid::Cell;
@@ -23,7 +23,7 @@ impl Memory {
         self.cell_rooms = self.wm.places.cell_rooms(&grid);
         // Placeholders the known map gives no short path to from their place are artefacts
         // (frontier seen through a gap, behind furniture): not worth a plan.
-        let ends: Vec<([f64; 2], [f64; 2])> = {
+        let ends: Vec<Segment> = {
             let g = &self.wm.places.graph;
             self.wm
                 .places
@@ -33,17 +33,16 @@ impl Memory {
                 .collect()
         };
         // A pure function of the grid and the ends; most syncs see the map of the one before.
-        let spurious: Vec<bool> = match self.spurious_cache.take() {
-            Some((g, e, v)) if g == grid && e == ends => v,
-            _ => ends
-                .iter()
+        let mut memo = std::mem::take(&mut self.spurious_cache);
+        let spurious = memo.get_or_insert_with((grid, ends.clone()), || {
+            ends.iter()
                 .map(|&(a, p)| {
                     self.path_len_within(a, p, true, 2.0 * dist(a, p) + 2.0)
                         .is_none()
                 })
-                .collect(),
-        };
-        self.spurious_cache = Some((grid.clone(), ends, spurious.clone()));
+                .collect()
+        });
+        self.spurious_cache = memo;
         let min_open_area = self.tuning.min_open_area;
         let mut cands: Vec<(Cand, bool)> = self
             .wm
@@ -144,10 +143,10 @@ impl Memory {
                 .map(|d| d.hypothesis.center)
                 .collect(),
         };
-        let (picked, extra) = match self.unvisited_cache.take() {
-            Some((k, v)) if k == key => v,
-            _ => self.find_unvisited_areas(frontier)?,
-        };
+        let mut memo = std::mem::take(&mut self.unvisited_cache);
+        let found = memo.try_get_or_insert_with(key, || self.find_unvisited_areas(frontier));
+        self.unvisited_cache = memo;
+        let (picked, extra) = found?;
         for id in std::mem::take(&mut self.extra_ids) {
             self.wm.concepts.remove_placeholder(PlaceholderId(id))?;
         }
@@ -155,7 +154,6 @@ impl Memory {
             self.wm.concepts.set_placeholder(PlaceholderId(id), ph)?;
             self.extra_ids.push(id);
         }
-        self.unvisited_cache = Some((key, (picked.clone(), extra)));
         Ok(picked)
     }
 
