@@ -320,7 +320,7 @@ mod tests {
     }
 
     #[test]
-    fn relevant_classes_are_the_goal_and_the_landmarks_it_lies_on() {
+    fn relevant_classes_are_the_goal_and_the_landmarks_it_lies_on_or_in() {
         let k = office();
         // office.yaml: cereal boxes lie on tables and counters and in shelves; staplers on
         // desks; markers on tables and desks.

@@ -11,7 +11,7 @@ use crate::config::Tuning;
 use crate::run::PointKey;
 use crate::world_model::WorldModel;
 use avs_concepts::{LandmarkId, RoomId};
-use avs_format::knowledge::Knowledge;
+use avs_format::knowledge::{Knowledge, Relation};
 use avs_map::grid::{Cell, OccupancyGrid};
 use avs_map::memo::Memo;
 use avs_map::nav::{shortest_path_within, Traversability};
@@ -61,6 +61,15 @@ impl ConeLoc {
         match self {
             ConeLoc::Room(_) => None,
             ConeLoc::On(k) | ConeLoc::In(k) => Some(k),
+        }
+    }
+
+    /// How the location relates to its landmark (`None` for a room).
+    pub fn relation(self) -> Option<Relation> {
+        match self {
+            ConeLoc::Room(_) => None,
+            ConeLoc::On(_) => Some(Relation::On),
+            ConeLoc::In(_) => Some(Relation::In),
         }
     }
 }

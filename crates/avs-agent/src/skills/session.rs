@@ -15,7 +15,6 @@ use crate::run::{PointKey, Run, StepEnd};
 use crate::trace::{Event, SessionOutcome, View};
 use crate::AgentError;
 use avs_concepts::{Location, RoomId};
-use avs_format::knowledge::Relation;
 use avs_pomdp::{
     cone_priors, euclidean_travel, SessionOptions, ViewConeAction, ViewConeProblem, ViewConeSession,
 };
@@ -61,16 +60,9 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
     let set = mem.cones[&(label.to_string(), loc)].clone();
     let location = match loc {
         ConeLoc::Room(r) => Location::Room(RoomId(r)),
-        ConeLoc::On(k) | ConeLoc::In(k) => match mem.objects[k].landmark {
-            Some(l) => Location::Landmark(
-                l,
-                if matches!(loc, ConeLoc::In(_)) {
-                    Relation::In
-                } else {
-                    Relation::On
-                },
-            ),
-            None => {
+        ConeLoc::On(k) | ConeLoc::In(k) => match (mem.objects[k].landmark, loc.relation()) {
+            (Some(l), Some(relation)) => Location::Landmark(l, relation),
+            _ => {
                 return Ok(StepEnd::Replan(ReplanReason::NotALandmark {
                     object: names::object(k),
                 }))
