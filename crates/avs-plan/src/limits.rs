@@ -102,17 +102,20 @@ impl Budget {
         }
     }
 
-    fn exceeded(&self, what: impl Into<String>, resource: GroundingResource) -> PlanError {
-        let limit = match resource {
+    fn limit(&self, resource: GroundingResource) -> usize {
+        match resource {
             GroundingResource::Operators => self.limits.max_operators,
             GroundingResource::Facts => self.limits.max_facts,
             GroundingResource::Bytes => self.limits.max_bytes,
             GroundingResource::Bindings => self.limits.max_bindings,
-        };
+        }
+    }
+
+    fn exceeded(&self, what: impl Into<String>, resource: GroundingResource) -> PlanError {
         PlanError::GroundingLimit {
             what: what.into(),
             resource,
-            limit: limit as u64,
+            limit: self.limit(resource) as u64,
         }
     }
 
@@ -132,9 +135,21 @@ impl Budget {
         count: usize,
         params: usize,
     ) -> Result<(), PlanError> {
-        self.bytes += OPERATOR_BYTES + BYTES_PER_PARAMETER * params;
-        if count > self.limits.max_operators {
-            return Err(self.exceeded(what(), GroundingResource::Operators));
+        let bytes = OPERATOR_BYTES + BYTES_PER_PARAMETER * params;
+        self.kept(what, GroundingResource::Operators, count, bytes)
+    }
+
+    /// `count` items of `resource` are kept so far, the last one of `bytes` added by `what`.
+    fn kept(
+        &mut self,
+        what: impl FnOnce() -> String,
+        resource: GroundingResource,
+        count: usize,
+        bytes: usize,
+    ) -> Result<(), PlanError> {
+        self.bytes += bytes;
+        if count > self.limit(resource) {
+            return Err(self.exceeded(what(), resource));
         }
         self.check_bytes(what)
     }
@@ -164,11 +179,8 @@ impl Budget {
         count: usize,
         arity: usize,
     ) -> Result<(), PlanError> {
-        self.bytes += FACT_BYTES + BYTES_PER_PARAMETER * arity;
-        if count > self.limits.max_facts {
-            return Err(self.exceeded(what(), GroundingResource::Facts));
-        }
-        self.check_bytes(what)
+        let bytes = FACT_BYTES + BYTES_PER_PARAMETER * arity;
+        self.kept(what, GroundingResource::Facts, count, bytes)
     }
 
     /// Whether `count` facts of `what` may be added (checked before they are built).
