@@ -132,8 +132,7 @@ impl WorldModel {
             let mut rest = overlapping.clone();
             if let Some(pos) = rest.iter().position(|o| new.contains_key(o)) {
                 let from = rest.remove(pos);
-                let moved: Vec<PlaceId> =
-                    places.iter().map(|p| PlaceId(p.index() as u64)).collect();
+                let moved: Vec<PlaceId> = places.iter().map(|&p| place_id(p)).collect();
                 let landmarks: Vec<LandmarkId> = self
                     .landmark_place
                     .iter()
@@ -202,6 +201,12 @@ impl WorldModel {
         Ok(report)
     }
 
+    /// The room of `place`, or the error that it has none.
+    fn room_of_known(&self, place: NodeIndex) -> Result<RoomId, WorldModelError> {
+        self.room_of(place)
+            .ok_or(WorldModelError::PlaceNotInRoom(place.index()))
+    }
+
     /// `count` new objects of `class` were seen from `place`, looking at a share `coverage` of
     /// its room.
     pub fn saw_objects(
@@ -211,16 +216,10 @@ impl WorldModel {
         count: u32,
         coverage: f64,
     ) -> Result<(), WorldModelError> {
-        let room = self
-            .room_of(place)
-            .ok_or(WorldModelError::PlaceNotInRoom(place.index()))?;
-        Ok(self.concepts.observe_objects(
-            room,
-            PlaceId(place.index() as u64),
-            class,
-            count,
-            coverage,
-        )?)
+        let room = self.room_of_known(place)?;
+        Ok(self
+            .concepts
+            .observe_objects(room, place_id(place), class, count, coverage)?)
     }
 
     /// A place classifier read `property` at `place`: `likelihood[v]` = P(reading | value v),
@@ -232,15 +231,10 @@ impl WorldModel {
         property: &str,
         likelihood: &[f64],
     ) -> Result<(), WorldModelError> {
-        let room = self
-            .room_of(place)
-            .ok_or(WorldModelError::PlaceNotInRoom(place.index()))?;
-        Ok(self.concepts.observe_property_soft(
-            room,
-            PlaceId(place.index() as u64),
-            property,
-            likelihood,
-        )?)
+        let room = self.room_of_known(place)?;
+        Ok(self
+            .concepts
+            .observe_property_soft(room, place_id(place), property, likelihood)?)
     }
 
     /// A landmark of `class` was found from `place`: it becomes a location for in/on searches.
@@ -249,11 +243,14 @@ impl WorldModel {
         place: NodeIndex,
         class: &str,
     ) -> Result<LandmarkId, WorldModelError> {
-        let room = self
-            .room_of(place)
-            .ok_or(WorldModelError::PlaceNotInRoom(place.index()))?;
+        let room = self.room_of_known(place)?;
         let l = self.concepts.add_landmark(room, class)?;
         self.landmark_place.insert(l, place);
         Ok(l)
     }
+}
+
+/// The conceptual map's id of place-map node `n`.
+fn place_id(n: NodeIndex) -> PlaceId {
+    PlaceId(n.index() as u64)
 }
