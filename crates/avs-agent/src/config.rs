@@ -132,6 +132,13 @@ impl Default for AgentConfig {
                 o.offline.init_iterations = 40;
                 // Rooms have up to 24 cones: bound the session from below by sweeps over them.
                 o.sweep_bounds = true;
+                // A session is one search of the location, as SEARCHFOROBJECT's success model
+                // (one pass at the detector's hit rate) says: each cone once, again only to
+                // confirm a detection, in an order that counts the pass's travel (avs-pomdp
+                // `rollout`). Under RTBSS over HSVI's loose bounds the sessions zigzagged
+                // between the heaviest cones and made a second pass at the assumed prior:
+                // travel between view cones was 53% of the bench's path.
+                o.policy = avs_pomdp::SessionPolicy::OnePassRollout;
                 o
             },
             max_plans: 30,

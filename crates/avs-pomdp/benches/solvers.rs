@@ -63,6 +63,7 @@ fn viewcone(c: &mut Criterion) {
         },
         max_steps: 100,
         sweep_bounds: false,
+        policy: Default::default(),
     };
     let session = ViewConeSession::new(&twenty_cones(), opts).expect("session starts");
     c.bench_function("viewcone20_next_action_first", |b| {

@@ -11,6 +11,8 @@
 //! * [`online`] — RTBSS (Ross, Pineau, Paquet & Chaib-draa 2008, Algorithm 3.2): depth-limited
 //!   forward search with branch-and-bound on the offline bounds; [`online::expectimax`] is the
 //!   brute-force reference.
+//! * [`rollout`] — the one-pass rollout policy of view-cone sessions: expectimax whose leaves
+//!   are a nearest-neighbour pass's exact value (Bertsekas' rollout), one look per cone.
 //! * [`viewcone`] — the view-cone POMDP and the closed-loop [`ViewConeSession`] (the cones
 //!   themselves come from CREATEVIEWCONES, which lives in `avs-view`).
 //! * [`simulate`](mod@simulate) — seeded Monte-Carlo evaluation of a policy.
@@ -65,6 +67,11 @@
 //!   sessions: γ = 0.99, 40) it stays near that trivial bound, and HSVI's trials run to their depth
 //!   limit. Starting Q_MDP from below with a residual certificate would tighten it a
 //!   hundredfold, but it changes the sessions' decisions (see BENCHMARKS.md, `avs run`).
+//! * **One-pass sessions** ([`SessionPolicy::OnePassRollout`], what the agent uses): a session
+//!   is one search of the location, matching the continual planner's success model for
+//!   SEARCHFOROBJECT; a cone is processed again only to confirm a detection, and "found" is
+//!   declared only where the last look detected. The leaf's base pass confirms a detection
+//!   with one more look, which is our choice (the paper's DT planner has no base policy).
 //! * **RTBSS leaves.** At depth 1 the children are leaves, so all actions are evaluated exactly
 //!   instead of being ordered by U (same value, less work); deeper, Algorithm 3.2 is followed.
 //!
@@ -92,6 +99,7 @@ pub mod error;
 pub mod model;
 pub mod offline;
 pub mod online;
+pub mod rollout;
 pub mod simulate;
 pub mod viewcone;
 
@@ -101,9 +109,10 @@ pub use error::{PomdpError, Result};
 pub use model::{Pomdp, PomdpTables};
 pub use offline::{solve, solve_from, OfflineOptions, OfflineSolution, StopReason};
 pub use online::{expectimax, rtbss, OnlineDecision, OnlineOptions};
+pub use rollout::{OnePassModel, OnePassState};
 pub use simulate::{horizon_for, simulate, SimulationSummary};
 pub use viewcone::{
     cone_priors, euclidean_travel, ConeBelief, DecisionRewards, Outcome, SessionOptions,
-    ViewConeAction, ViewConePomdp, ViewConeProblem, ViewConeSession, MAX_CONES,
+    SessionPolicy, ViewConeAction, ViewConePomdp, ViewConeProblem, ViewConeSession, MAX_CONES,
     PAPER_FALSE_NEGATIVE, PAPER_FALSE_POSITIVE,
 };

@@ -18,6 +18,7 @@ use crate::error::{PomdpError, Result};
 use crate::model::{to_sparse, Pomdp, PomdpTables};
 use crate::offline::{solve_from, OfflineOptions};
 use crate::online::{rtbss_sparse, OnlineOptions};
+use crate::rollout::{OnePassModel, OnePassState};
 
 /// The paper's false-negative rate, "an educated guess" (`002` §IV): the default when the knowledge
 /// file gives none.
@@ -469,6 +470,21 @@ pub struct SessionOptions {
     /// only whole sweeps can keep re-processing a cone it has emptied (no tour's tail is in the
     /// bound).
     pub sweep_bounds: bool,
+    /// How the session decides (see [`SessionPolicy`]).
+    pub policy: SessionPolicy,
+}
+
+/// How a [`ViewConeSession`] chooses its actions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SessionPolicy {
+    /// RTBSS ([`crate::online`]) over HSVI bounds refined when the session starts: any cone may be
+    /// processed any number of times.
+    #[default]
+    Rtbss,
+    /// One search of the location ([`crate::rollout`]): each cone is processed once, and again
+    /// only to confirm a detection there; decisions are an expectimax to `online.depth` whose
+    /// leaves are a nearest-neighbour pass's exact value. No offline solve.
+    OnePassRollout,
 }
 
 impl Default for SessionOptions {
@@ -485,6 +501,7 @@ impl Default for SessionOptions {
             online: OnlineOptions::default(),
             max_steps: 100,
             sweep_bounds: false,
+            policy: SessionPolicy::Rtbss,
         }
     }
 }
@@ -520,7 +537,10 @@ impl Default for SessionOptions {
 #[derive(Debug, Clone)]
 pub struct ViewConeSession {
     model: ViewConePomdp,
-    bounds: Bounds,
+    /// The offline bounds (RTBSS sessions only).
+    bounds: Option<Bounds>,
+    /// The one-pass model and state (one-pass sessions only).
+    one_pass: Option<(OnePassModel, OnePassState)>,
     belief: Vec<f64>,
     opts: SessionOptions,
     pending: Option<usize>,
@@ -543,22 +563,40 @@ impl ViewConeSession {
             ));
         }
         let m = model.pomdp();
-        let mut bounds = Bounds::initial(m, opts.offline.init_iterations);
-        if opts.sweep_bounds {
-            for v in model.sweep_vectors() {
-                bounds.add_alpha(v);
+        let (bounds, one_pass) = match opts.policy {
+            SessionPolicy::Rtbss => {
+                let mut bounds = Bounds::initial(m, opts.offline.init_iterations);
+                if opts.sweep_bounds {
+                    for v in model.sweep_vectors() {
+                        bounds.add_alpha(v);
+                    }
+                }
+                let sol = solve_from(m, m.initial_belief(), Some(bounds), &opts.offline)?;
+                tracing::debug!(
+                    lower = sol.lower,
+                    upper = sol.upper,
+                    trials = sol.trials,
+                    "view-cone session bounds"
+                );
+                (Some(sol.bounds), None)
             }
-        }
-        let sol = solve_from(m, m.initial_belief(), Some(bounds), &opts.offline)?;
-        tracing::debug!(
-            lower = sol.lower,
-            upper = sol.upper,
-            trials = sol.trials,
-            "view-cone session bounds"
-        );
+            SessionPolicy::OnePassRollout => {
+                let prior = model.cone_belief(m.initial_belief());
+                let mut mass = prior.in_cone;
+                mass.push(prior.absent);
+                let state = OnePassState {
+                    open: vec![true; model.n_cones()],
+                    mass,
+                    pos: 0,
+                    recheck: None,
+                };
+                (None, Some((OnePassModel::new(&model), state)))
+            }
+        };
         Ok(Self {
             belief: m.initial_belief().to_vec(),
-            bounds: sol.bounds,
+            bounds,
+            one_pass,
             model,
             opts,
             pending: None,
@@ -572,9 +610,9 @@ impl ViewConeSession {
         &self.model
     }
 
-    /// The offline bounds in use.
-    pub fn bounds(&self) -> &Bounds {
-        &self.bounds
+    /// The offline bounds in use (`None` for a one-pass session, which needs none).
+    pub fn bounds(&self) -> Option<&Bounds> {
+        self.bounds.as_ref()
     }
 
     /// The current belief over the target's whereabouts.
@@ -603,7 +641,18 @@ impl ViewConeSession {
             return Ok(self.model.action(a));
         }
         let m = self.model.pomdp();
-        let a = if self.steps >= self.opts.max_steps {
+        let index = |a: ViewConeAction| match a {
+            ViewConeAction::Process { cone } => cone,
+            ViewConeAction::DeclareFound { cone } => self.model.n + cone,
+            ViewConeAction::DeclareAbsent => 2 * self.model.n,
+        };
+        let a = if let Some((model, state)) = &self.one_pass {
+            if self.steps >= self.opts.max_steps {
+                index(model.declare(state))
+            } else {
+                index(model.decide(state, self.opts.online.depth).1)
+            }
+        } else if self.steps >= self.opts.max_steps {
             // Guard: best declaration by expected immediate reward.
             (self.model.n..m.n_actions())
                 .max_by(|x, y| {
@@ -611,8 +660,12 @@ impl ViewConeSession {
                         .total_cmp(&m.expected_reward(&self.belief, *y))
                 })
                 .unwrap_or(2 * self.model.n)
+        } else if let Some(bounds) = &self.bounds {
+            rtbss_sparse(m, bounds, &to_sparse(&self.belief), &self.opts.online)?.action
         } else {
-            rtbss_sparse(m, &self.bounds, &to_sparse(&self.belief), &self.opts.online)?.action
+            return Err(PomdpError::InvalidArgument(
+                "a session has either bounds or a one-pass model".into(),
+            ));
         };
         let action = self.model.action(a);
         match action {
@@ -636,6 +689,16 @@ impl ViewConeSession {
         let z = if detected { 0 } else { 1 };
         let (b, _) = self.model.pomdp().update(&self.belief, a, z)?;
         self.belief = b;
+        if let Some((model, state)) = &mut self.one_pass {
+            match model.after(state, a, detected) {
+                Some((_, next)) => *state = next,
+                None => {
+                    return Err(PomdpError::InvalidArgument(format!(
+                        "cone {a}: an observation the one-pass model calls impossible"
+                    )))
+                }
+            }
+        }
         self.pending = None;
         self.steps += 1;
         Ok(())

@@ -59,6 +59,7 @@ fn cones_planned_for_a_room_lead_a_perfect_sensor_to_the_target_cell() {
         },
         max_steps: 2 * plan.views.len(),
         sweep_bounds: false,
+        policy: Default::default(),
     };
     let session = ViewConeSession::new(&problem, opts).unwrap();
     // Put the target in a few cells; the session must declare the cone that first covered that cell.

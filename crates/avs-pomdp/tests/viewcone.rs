@@ -77,6 +77,7 @@ fn quick_options() -> SessionOptions {
         },
         max_steps: 12,
         sweep_bounds: false,
+        policy: Default::default(),
     }
 }
 
@@ -301,6 +302,7 @@ fn a_session_over_sixteen_empty_cones_looks_at_each_at_most_twice_then_declares_
         online: OnlineOptions::default(),
         max_steps: 100,
         sweep_bounds: true,
+        policy: Default::default(),
     };
     let mut session = ViewConeSession::new(&sixteen_cones(), opts).unwrap();
     let mut looks = [0usize; 16];
