@@ -74,6 +74,8 @@ pub struct ScenarioRun {
     pub world: World,
     /// The `before` searches, then the scenario goal's search (last), with their goals.
     pub reports: Vec<(String, SearchReport)>,
+    /// The robot's trail during the scenario goal's search (from where it started).
+    pub trail: Vec<[f64; 2]>,
 }
 
 impl ScenarioRun {
@@ -175,7 +177,7 @@ pub fn run_scenario(sc: &Scenario, file: &Path, root: &Path) -> Result<ScenarioR
     let knowledge = load_knowledge(&root.join(&sc.knowledge))?;
     let domain = load_domain(&root.join(&sc.domain))?;
     check_names(sc, &world, &knowledge, &f)?;
-    let reports = {
+    let (reports, trail) = {
         let mut robot = SimAgentRobot::new(
             &world,
             knowledge.clone(),
@@ -194,7 +196,9 @@ pub fn run_scenario(sc: &Scenario, file: &Path, root: &Path) -> Result<ScenarioR
             .iter()
             .enumerate()
             .map(|(i, g)| (format!("before[{i}]"), g));
+        let mut from = 0;
         for (field, goal) in goals.chain([("goal".to_string(), &sc.goal)]) {
+            from = robot.trail().len().saturating_sub(1);
             let r = agent
                 .search(&mut robot, Goal::find(goal))
                 .map_err(|e| EvalError::Field {
@@ -204,7 +208,11 @@ pub fn run_scenario(sc: &Scenario, file: &Path, root: &Path) -> Result<ScenarioR
                 })?;
             reports.push((goal.clone(), r));
         }
-        reports
+        (reports, robot.trail()[from..].to_vec())
     };
-    Ok(ScenarioRun { world, reports })
+    Ok(ScenarioRun {
+        world,
+        reports,
+        trail,
+    })
 }

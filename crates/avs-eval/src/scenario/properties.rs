@@ -22,22 +22,15 @@ pub fn room_name(world: &World, x: f64, y: f64) -> Option<String> {
     world.room_at(x, y).map(|i| world.env.rooms[i].name.clone())
 }
 
-/// The true rooms along the robot's path (start, every action's end, every look), with
-/// consecutive repeats merged.
-pub fn rooms_along_path(world: &World, trace: &[Event]) -> Vec<String> {
+/// The true rooms along the robot's trail (every position it passed, at most 0.25 m apart),
+/// with consecutive repeats merged; positions in no room (door cells) are skipped. (Sampled
+/// at action ends only, a MOVE from an office through the corridor into the kitchen read as
+/// office → kitchen.)
+pub fn rooms_along_path(world: &World, trail: &[[f64; 2]]) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
-    for e in trace {
-        let p = match e {
-            Event::Started { pose, .. } | Event::ActionFinished { pose, .. } => {
-                Some((pose[0], pose[1]))
-            }
-            Event::DtAction { view: Some(v), .. } => Some((v.x, v.y)),
-            _ => None,
-        };
-        if let Some(r) = p.and_then(|(x, y)| room_name(world, x, y)) {
-            if out.last() != Some(&r) {
-                out.push(r);
-            }
+    for r in trail.iter().filter_map(|p| room_name(world, p[0], p[1])) {
+        if out.last() != Some(&r) {
+            out.push(r);
         }
     }
     out
@@ -343,7 +336,7 @@ pub fn evaluate_properties(sc: &Scenario, out: &ScenarioRun) -> Vec<PropertyResu
     if !x.searched_for.is_empty() {
         judge("expect.searched_for", &mut bad, "holds".into());
     }
-    let path_rooms = rooms_along_path(&out.world, t);
+    let path_rooms = rooms_along_path(&out.world, &out.trail);
     if !x.entered_rooms.is_empty() && !is_subsequence(&x.entered_rooms, &path_rooms) {
         bad.push(format!(
             "expect.entered_rooms: {:?} in this order, but the robot went through {path_rooms:?}",
