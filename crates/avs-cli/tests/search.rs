@@ -161,3 +161,49 @@ fn a_door_closing_mid_run_ends_in_a_verdict() {
     assert_eq!(summary["found"], false, "{summary:#}");
     assert!(!summary["reason"].as_str().unwrap().is_empty());
 }
+
+/// `avs search` runs the checks `avs validate` runs: a start off the map (at 1e19 m the
+/// search hung in a line of sight) is an input error naming the file, line and field, in
+/// the file or through `--start`.
+#[test]
+fn a_start_off_the_map_is_refused_as_validate_refuses_it() {
+    let dir = std::env::temp_dir().join(format!("avs-search-offmap-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let text = std::fs::read_to_string(root.join("domains/environments/office.yaml")).unwrap();
+    let start = "start: { x: 1.0, y: 1.2, yaw_deg: 0 }";
+    assert!(text.contains(start), "the shipped office's start moved");
+    for x in ["1000", "1e19", "-3"] {
+        let env = dir.join(format!("off_{x}.yaml"));
+        std::fs::write(
+            &env,
+            text.replace(start, &format!("start: {{ x: {x}, y: 1.2, yaw_deg: 0 }}")),
+        )
+        .unwrap();
+        let env_s = env.to_str().unwrap();
+        let validate = avs(&["validate", env_s]);
+        assert_eq!(validate.status.code(), Some(1), "validate accepted x = {x}");
+        let mut args = OFFICE.to_vec();
+        args[2] = env_s;
+        args.extend(["--goal", "cerealbox"]);
+        let o = avs(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "x = {x}: {err}");
+        assert!(
+            err.contains(&format!("{env_s}:116:"))
+                && err.contains("robot.start")
+                && err.contains("outside the map"),
+            "x = {x}: {err}"
+        );
+    }
+    let mut args = OFFICE.to_vec();
+    args.extend(["--goal", "cerealbox", "--start", "1e19,0,0"]);
+    let o = avs(&args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("robot.start") && err.contains("outside the map"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

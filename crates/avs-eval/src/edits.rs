@@ -112,18 +112,22 @@ pub fn load_edited_world(
     describe: impl Fn(EditField) -> String,
 ) -> Result<World, EvalError> {
     let file = path.display().to_string();
-    let mut env: Environment = avs_format::load_yaml(path).map_err(|e| EvalError::Load {
-        what: "environment",
-        file: file.clone(),
-        message: e.to_string(),
-    })?;
+    // The file as written gets `avs validate`'s checks with lines and columns; the edited
+    // environment gets them again when its world is built.
+    let mut env = World::load(path)
+        .map_err(|e| EvalError::Load {
+            what: "environment",
+            file: file.clone(),
+            message: e.to_string(),
+        })?
+        .env;
     edit_environment(&mut env, edits, &file).map_err(|(which, message)| EvalError::Field {
         file: file.clone(),
         field: describe(which),
         message,
     })?;
     let base = path.parent().unwrap_or(Path::new("."));
-    World::new(env, base).map_err(|e| EvalError::Load {
+    World::named(&file, env, base).map_err(|e| EvalError::Load {
         what: "environment",
         file,
         message: e.to_string(),

@@ -262,7 +262,7 @@ fn world_checks(
         ));
         return;
     }
-    let world = match World::new(env.clone(), base_dir) {
+    let world = match World::build(env.clone(), base_dir) {
         Ok(w) => w,
         Err(SimError::Invalid { field, message }) => {
             let (m, x) = match message.split_once("; expected ") {

@@ -1,6 +1,7 @@
 //! The ground-truth world built from an environment file.
 
 use avs_format::environment::{Environment, MapSource, Object, ObjectRole};
+use avs_format::knowledge::Knowledge;
 use avs_map::grid::{Cell, MapError, OccupancyGrid};
 use avs_map::raycast::{line_of_sight, walk_segment};
 use std::collections::VecDeque;
@@ -20,6 +21,11 @@ pub enum SimError {
         /// What is wrong and what is expected.
         message: String,
     },
+    /// The environment fails the checks of `avs validate` ([`crate::check`]): every problem,
+    /// each naming its file, field (and, when read from a file, line and column) and what is
+    /// expected.
+    #[error("{}", .0.iter().map(|d| d.to_string()).collect::<Vec<_>>().join("\n"))]
+    Checks(Vec<avs_format::Diagnostic>),
 }
 
 /// The occupancy grid of an environment; `base_dir` is the folder of the environment file
@@ -56,8 +62,27 @@ pub struct World {
 }
 
 impl World {
-    /// Build the world from an environment; `base_dir` is the environment file's folder.
+    /// Build the world from an environment; `base_dir` is the environment file's folder. The
+    /// environment must pass the checks `avs validate` runs ([`crate::check`]; class names are
+    /// not checked here, there being no knowledge): one gate for every command, so that a world
+    /// that builds is one the simulator can run (a start off the map hung the search).
     pub fn new(env: Environment, base_dir: &Path) -> Result<Self, SimError> {
+        Self::named("environment", env, base_dir)
+    }
+
+    /// [`World::new`] for an environment read from (or edited after) the file `file`, which
+    /// the checks' messages name.
+    pub fn named(file: &str, env: Environment, base_dir: &Path) -> Result<Self, SimError> {
+        let diagnostics = crate::check::check_environment(file, &env, base_dir, None);
+        if !diagnostics.is_empty() {
+            return Err(SimError::Checks(diagnostics));
+        }
+        Self::build(env, base_dir)
+    }
+
+    /// [`World::new`] without the checks: for the checks themselves, which build the world to
+    /// test what needs it.
+    pub(crate) fn build(env: Environment, base_dir: &Path) -> Result<Self, SimError> {
         let mut walls = load_grid(&env, base_dir)?;
         let mut door_openings = Vec::with_capacity(env.doors.len());
         for (i, d) in env.doors.iter().enumerate() {
@@ -109,13 +134,28 @@ impl World {
     }
 
     /// Load an environment file and build its world.
+    /// The file gets the checks of `avs validate` with their lines and columns.
     pub fn load(path: &Path) -> Result<Self, SimError> {
+        Self::load_checked(path, None)
+    }
+
+    /// [`World::load`], also checking the environment's class names against `knowledge` (as
+    /// `avs validate --knowledge` does).
+    pub fn load_checked(path: &Path, knowledge: Option<&Knowledge>) -> Result<Self, SimError> {
         let env: Environment = avs_format::load_yaml(path).map_err(|e| SimError::Invalid {
             field: path.display().to_string(),
             message: e.to_string(),
         })?;
         let base = path.parent().unwrap_or(Path::new("."));
-        Self::new(env, base)
+        let file = path.display().to_string();
+        let mut diagnostics = crate::check::check_environment(&file, &env, base, knowledge);
+        if !diagnostics.is_empty() {
+            if let Ok(text) = std::fs::read_to_string(path) {
+                avs_format::positions::locate(&mut diagnostics, &text);
+            }
+            return Err(SimError::Checks(diagnostics));
+        }
+        Self::build(env, base)
     }
 
     /// The ground-truth room (index into `env.rooms`) at a world point.

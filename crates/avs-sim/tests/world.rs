@@ -111,15 +111,25 @@ fn camera_sees_objects_in_its_field_of_view_with_line_of_sight_only() {
 }
 
 /// Issue 18 reproducer: a laser of range 1e6 m (or a field of view of 1e9°) made every scan cast
-/// fov × range / resolution rays (a minute and more per scan). Rays are now clipped to the map:
-/// the robot starts, scans and moves, and sees exactly what a 360° laser reaching across the
-/// map sees.
+/// fov × range / resolution rays (a minute and more per scan). Such a world is now refused when
+/// it is built (the checks of `avs validate`, one gate for every command), and within what
+/// validates (up to 1 km) rays are clipped to the map: the robot starts, scans and moves, and
+/// sees exactly what a 360° laser reaching across the map sees.
 #[test]
-fn an_absurd_laser_is_clipped_to_the_map() {
+fn an_absurd_laser_is_refused_and_a_long_one_clipped_to_the_map() {
     let w = office();
     let mut env = w.env.clone();
     env.laser.range = 1e6;
     env.laser.fov_deg = 1e9;
+    let refused = World::new(env.clone(), Path::new("."))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        refused.contains("laser.range") && refused.contains("laser.fov_deg"),
+        "{refused}"
+    );
+    env.laser.range = 1000.0;
+    env.laser.fov_deg = 360.0;
     let absurd = World::new(env.clone(), Path::new(".")).unwrap();
     env.laser.range = avs_map::raycast::max_ray_length(&w.truth);
     env.laser.fov_deg = 360.0;

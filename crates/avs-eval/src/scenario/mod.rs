@@ -64,7 +64,7 @@ pub fn build_world(sc: &Scenario, file: &Path, root: &Path) -> Result<World, Eva
         field(name, message)
     })?;
     let base = env_path.parent().unwrap_or(Path::new("."));
-    World::new(env, base).map_err(|e| field("environment".into(), e.to_string()))
+    World::named(&sc.environment, env, base).map_err(|e| field("environment".into(), e.to_string()))
 }
 
 /// A scenario run: the world and every search's report.
