@@ -19,7 +19,12 @@ pub(crate) struct Body<'r, R: Robot + ?Sized> {
     activity: Activity,
     /// Metres driven per activity.
     path: PathBreakdown,
+    /// Motions in a row the robot refused or aborted without moving, and the last refusal.
+    stuck: (usize, String),
 }
+
+/// A failed motion that moved the robot less than this (metres) left it where it stood.
+const STUCK_M: f64 = 0.05;
 
 impl<'r, R: Robot + ?Sized> Body<'r, R> {
     /// The body of `robot`.
@@ -28,6 +33,7 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
             robot,
             activity: Activity::default(),
             path: PathBreakdown::default(),
+            stuck: (0, String::new()),
         }
     }
 
@@ -37,6 +43,16 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
         let r = f(self);
         self.activity = before;
         r
+    }
+
+    /// The reason to give up when at least `limit` motions in a row failed without moving the
+    /// robot (refused, or aborted where it stood): a robot that cannot move is told apart from
+    /// a search that has not found its target yet.
+    pub fn cannot_move(&self, limit: usize) -> Option<crate::reason::GiveUpReason> {
+        (self.stuck.0 >= limit).then(|| crate::reason::GiveUpReason::CannotMove {
+            failures: self.stuck.0,
+            last: self.stuck.1.clone(),
+        })
     }
 
     /// Metres driven so far through this body, per activity.
@@ -219,8 +235,20 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
             prev = [now.x, now.y];
             readings.extend(self.read_place(mem));
             if let Err(e) = r {
+                // Only a motion that started and failed where it stood says the robot cannot
+                // move; an unreachable target says something about the map.
+                if e.reason == avs_robot::FailureReason::ExecutionFailed
+                    && self.robot.odometry() - odo < STUCK_M
+                {
+                    self.stuck = (self.stuck.0 + 1, e.to_string());
+                } else {
+                    self.stuck.0 = 0;
+                }
                 result = Err(MoveFailure::Robot(e));
                 break;
+            }
+            if self.robot.odometry() - odo >= STUCK_M {
+                self.stuck.0 = 0;
             }
             if detour {
                 result = Err(MoveFailure::Detour { target });

@@ -200,7 +200,7 @@ impl AgentConfig {
         let finite_pos = |x: f64| x.is_finite() && x > 0.0;
         let finite_nonneg = |x: f64| x.is_finite() && x >= 0.0;
         let prob = |x: f64| (0.0..=1.0).contains(&x);
-        let checks: [(&'static str, f64, bool, &'static str); 31] = [
+        let checks: [(&'static str, f64, bool, &'static str); 32] = [
             (
                 "min_confidence",
                 self.min_confidence,
@@ -387,6 +387,12 @@ impl AgentConfig {
                 t.look_min_sightings >= 1,
                 "at least 1",
             ),
+            (
+                "tuning.stuck_motions",
+                t.stuck_motions as f64,
+                t.stuck_motions >= 1,
+                "at least 1",
+            ),
         ];
         for (field, value, ok, expected) in checks {
             if !ok {
@@ -489,6 +495,12 @@ pub struct Tuning {
     pub verify_bearings: usize,
     /// Guard on the number of DT decisions per session.
     pub max_dt_steps: usize,
+    /// Give up when this many motions in a row failed without moving the robot (refused, or
+    /// aborted where it stood): a robot that cannot move is told so at once instead of after
+    /// the plan budget and a whole coverage of failed motions. 5: a blocked path fails one
+    /// motion and the next plan goes elsewhere; five refusals in a row from different plans
+    /// and targets are the robot, not the map.
+    pub stuck_motions: usize,
     /// Probabilities from the conceptual map are kept at least this large (a posterior that
     /// rounds to nothing still allows a plan); an exact 0 (a rate of 0 in the knowledge, a
     /// class that cannot lead to the goal, a placeholder known to lead nowhere) stays 0 and
@@ -539,6 +551,7 @@ impl Default for Tuning {
             rejections_to_ignore: 2,
             verify_bearings: 16,
             max_dt_steps: 60,
+            stuck_motions: 5,
             p_min: 1e-6,
             covered_share: 0.8,
             cover_key_resolution: 0.1,

@@ -191,6 +191,9 @@ fn main_loop<R: Robot + ?Sized>(
     let mut reason = ReplanReason::Initial;
     let (fnr, p_min) = (cx.knowledge.sensor.false_negative, cx.tuning().p_min);
     loop {
+        if let Some(r) = body.cannot_move(cx.tuning().stuck_motions) {
+            return Ok(Err(r));
+        }
         if run.metrics.plans >= cx.config.max_plans {
             let r = GiveUpReason::PlanBudget {
                 plans: run.metrics.plans,

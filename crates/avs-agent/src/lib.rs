@@ -153,6 +153,11 @@
 //!   0.2); the simulated look-alike (distractor) fires at 0.25 outside and 0.05 inside the
 //!   recognition range, so it passes with under 0.01. A sighting not confirmed ends the session
 //!   as a false alarm and the agent replans without thinning the location.
+//! * **A robot that cannot move** gives up at once, naming the robot's last refusal
+//!   ([`GiveUpReason::CannotMove`]): after [`Tuning::stuck_motions`] motions in a row that
+//!   started and failed where the robot stood (an unreachable target does not count: that is
+//!   the map, and the next plan goes elsewhere). Before, it spent the plan budget and a whole
+//!   coverage of refused motions and said "every reachable room was covered twice".
 //! * **Monitoring** uses the continual planner's monitor after every physical step; a move onto
 //!   a placeholder and the EXPLORE-PLACEHOLDER that follows run together (the frontier may vanish
 //!   on arrival). After every DT session the agent replans (the virtual object was matched to the

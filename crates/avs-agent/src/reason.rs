@@ -226,6 +226,13 @@ pub enum GiveUpReason {
     },
     /// The goal class is not in the knowledge.
     UnknownClass(String),
+    /// The robot cannot move: motions in a row failed where it stood.
+    CannotMove {
+        /// Failed motions in a row.
+        failures: usize,
+        /// The robot's last refusal.
+        last: String,
+    },
     /// The planner would have given up for `planner`; the coverage then ended for `coverage`.
     AfterCoverage {
         /// Why the planner stopped.
@@ -250,6 +257,10 @@ impl fmt::Display for GiveUpReason {
             Self::Planner(g) => write!(f, "{g}"),
             Self::PlannerFailed(e) => write!(f, "the planner failed: {e}"),
             Self::GoalAlreadyHolds => f.write_str("the goal already holds"),
+            Self::CannotMove { failures, last } => write!(
+                f,
+                "gave up: the robot cannot move ({failures} motions in a row failed where it stood; the last: {last})"
+            ),
             Self::Covered { passes, class } => {
                 let times = match passes {
                     1 => String::new(),

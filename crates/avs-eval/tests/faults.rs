@@ -422,3 +422,71 @@ fn closed_kitchen_door_reopened_by_an_event_lets_the_robot_into_the_kitchen() {
         eprintln!("{what}: in the kitchen at {at:.2} m; {}", r.reason);
     }
 }
+
+/// A robot whose wheels are dead: every motion is refused where it stands (the camera and
+/// the laser still work).
+struct Immobile<'w>(SimAgentRobot<'w>, usize);
+
+impl Robot for Immobile<'_> {
+    fn pose(&self) -> Pose2D {
+        self.0.pose()
+    }
+    fn camera(&self) -> Camera {
+        self.0.camera()
+    }
+    fn odometry(&self) -> f64 {
+        self.0.odometry()
+    }
+    fn move_to(&mut self, _goal: Pose2D) -> ActionResult<MoveReport> {
+        self.1 += 1;
+        Err(avs_robot::ActionFailure::new(
+            avs_robot::FailureReason::ExecutionFailed,
+            "drive fault: the wheels do not turn",
+        ))
+    }
+    fn map_update(&mut self) -> MapUpdate {
+        self.0.map_update()
+    }
+    fn process_view_cone(
+        &mut self,
+        cone: &ViewCone,
+        classes: &[String],
+    ) -> ActionResult<ViewReport> {
+        self.0.process_view_cone(cone, classes)
+    }
+}
+
+/// Issue 18: a robot that cannot move gives up early, naming the cause (before, it spent the
+/// plan budget and a whole coverage of refused motions, and said "every reachable room was
+/// covered twice").
+#[test]
+fn a_robot_that_cannot_move_gives_up_early_and_says_so() {
+    let world = office();
+    let inner = SimAgentRobot::new(&world, knowledge(), SimRobotConfig::default(), 1).unwrap();
+    let mut robot = Immobile(inner, 0);
+    let config = AgentConfig::default();
+    let limit = config.tuning.stuck_motions;
+    let mut agent = Agent::new(domain(), knowledge(), config).unwrap();
+    let report = agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
+    assert!(report.found.is_none());
+    assert!(
+        report.reason.contains("cannot move") && report.reason.contains("wheels do not turn"),
+        "{}",
+        report.reason
+    );
+    // The limit counts the motions of the plans' and the coverage's moves; turns in place
+    // (look-arounds) are refused too and come on top.
+    assert!(
+        robot.1 <= 3 * limit,
+        "{} motions tried for a limit of {limit}",
+        robot.1
+    );
+    assert!(
+        matches!(
+            report.gave_up,
+            Some(avs_agent::GiveUpReason::CannotMove { failures, .. }) if failures == limit
+        ),
+        "{:?}",
+        report.gave_up
+    );
+}

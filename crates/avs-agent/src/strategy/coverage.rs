@@ -54,6 +54,9 @@ pub(crate) fn cover_all<R: Robot + ?Sized>(
     };
     let mut pass = 1;
     loop {
+        if let Some(r) = body.cannot_move(cx.tuning().stuck_motions) {
+            return Ok(Err(r));
+        }
         if run.metrics.actions >= cx.config.max_cover_actions {
             return Ok(Err(GiveUpReason::ActionBudget {
                 actions: run.metrics.actions,
