@@ -134,16 +134,21 @@ fn eval(
     binding: &[usize],
     f: &dyn Functions,
     what: &str,
-    op: &str,
+    op: &dyn Fn() -> String,
 ) -> Result<f64, PlanError> {
     match q {
         Quantity::Const(v) => Ok(*v),
         Quantity::Func { name, args } => {
             let a: Vec<&str> = args.iter().map(|t| inst.name(t, binding)).collect();
-            let call = format!("{name}({})", a.join(", "));
+            // Names for the messages only: built when there is an error to report (grounding
+            // evaluates thousands of calls per plan).
+            let call = || format!("{name}({})", a.join(", "));
             let v = f.value(name, &a).ok_or_else(|| PlanError::Function {
-                call: call.clone(),
-                message: format!("not supplied by the caller (needed for the {what} of `{op}`)"),
+                call: call(),
+                message: format!(
+                    "not supplied by the caller (needed for the {what} of `{}`)",
+                    op()
+                ),
             })?;
             let ok = if what == "probability" {
                 (0.0..=1.0).contains(&v)
@@ -154,9 +159,10 @@ fn eval(
                 Ok(v)
             } else {
                 Err(PlanError::Function {
-                    call,
+                    call: call(),
                     message: format!(
-                        "{what} {v} for `{op}`; expected {}",
+                        "{what} {v} for `{}`; expected {}",
+                        op(),
                         if what == "probability" {
                             "a number in [0, 1]"
                         } else {
@@ -299,7 +305,7 @@ pub fn ground_with(
     let mut ops = Vec::new();
     for (oi, b) in found {
         let op = &d.operators[oi];
-        let key = format!("{} {:?}", op.name, b);
+        let key = || format!("{} {:?}", op.name, b);
         let mut pre: BTreeMap<usize, u32> = BTreeMap::new();
         let mut excluded: Vec<(usize, u32)> = Vec::new();
         let mut ok = true;
@@ -363,23 +369,27 @@ pub fn ground_with(
         }
         let cost = eval(&op.cost, &inst, &b, f, "cost", &key)?;
         let prob = eval(&op.prob, &inst, &b, f, "probability", &key)?;
-        let args: Vec<String> = b.iter().map(|&o| objs.names[o].clone()).collect();
-        let display = op.display_with(&args);
+        let display = || {
+            let args: Vec<String> = b.iter().map(|&o| objs.names[o].clone()).collect();
+            op.display_with(&args)
+        };
         if !(cost.is_finite() && cost >= 0.0) {
             return Err(PlanError::Function {
-                call: display,
+                call: display(),
                 message: format!("cost {cost}; expected a finite number ≥ 0"),
             });
         }
         if !(0.0..=1.0).contains(&prob) {
             return Err(PlanError::Function {
-                call: display,
+                call: display(),
                 message: format!("probability {prob}; expected a number in [0, 1]"),
             });
         }
         if prob == 0.0 {
             continue;
         }
+        let args: Vec<String> = b.iter().map(|&o| objs.names[o].clone()).collect();
+        let display = op.display_with(&args);
         // Expand `!=` conditions into one operator per remaining reachable value.
         let what = || format!("operator `{}`", op.name);
         let mut variants: Vec<BTreeMap<usize, u32>> = vec![pre];
@@ -399,12 +409,12 @@ pub fn ground_with(
                         }
                     }
                 }
-                budget.found(what, ops.len() + next.len(), args.len())?;
+                budget.found(what, ops.len() + next.len(), b.len())?;
             }
             variants = next;
         }
         for p in variants {
-            budget.operator(what, ops.len() + 1, args.len())?;
+            budget.operator(what, ops.len() + 1, b.len())?;
             ops.push(Operator {
                 schema: op.name.clone(),
                 args: args.clone(),
