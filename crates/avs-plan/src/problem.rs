@@ -273,6 +273,22 @@ impl Instance {
         }
     }
 
+    /// [`Self::obj_args`] into `out` (cleared first), without allocating; `false` when a
+    /// term names no object.
+    pub fn obj_args_into(&self, ts: &[Term], binding: &[usize], out: &mut Vec<usize>) -> bool {
+        out.clear();
+        for t in ts {
+            match t {
+                Term::Param(i) => out.push(binding[*i]),
+                Term::Name(n) => match self.objects.index.get(n) {
+                    Some(&o) => out.push(o),
+                    None => return false,
+                },
+            }
+        }
+        true
+    }
+
     /// Resolve terms that must be objects.
     pub fn obj_args(&self, ts: &[Term], binding: &[usize]) -> Option<Vec<usize>> {
         ts.iter()
