@@ -33,6 +33,18 @@ impl Ord for Prio {
     }
 }
 
+/// A non-negative f64 as a key whose integer order is the numbers' order (the IEEE-754 bit
+/// patterns of non-negative floats sort as unsigned integers; `+ 0.0` turns −0 into +0): the
+/// relaxed explorations' heap compares integers.
+#[inline]
+fn key(d: f64) -> u64 {
+    debug_assert!(
+        d >= 0.0 || d.is_nan(),
+        "relaxed values are non-negative: {d}"
+    );
+    (d + 0.0).to_bits()
+}
+
 /// The delete relaxation of a task, built once and evaluated per state.
 #[derive(Debug, Clone)]
 pub struct Relaxed {
@@ -156,9 +168,10 @@ impl Relaxed {
         ws.heap.clear();
         for f in self.state_facts(state) {
             ws.value[f] = 0.0;
-            ws.heap.push(Reverse((Prio(0.0), f)));
+            ws.heap.push(Reverse((key(0.0), f as u32)));
         }
-        while let Some(Reverse((Prio(d), f))) = ws.heap.pop() {
+        while let Some(Reverse((d, f))) = ws.heap.pop() {
+            let (d, f) = (f64::from_bits(d), f as usize);
             if d > ws.value[f] {
                 continue;
             }
@@ -179,7 +192,7 @@ impl Relaxed {
                         if nd < ws.value[e] {
                             ws.value[e] = nd;
                             ws.achiever[e] = o;
-                            ws.heap.push(Reverse((Prio(nd), e)));
+                            ws.heap.push(Reverse((key(nd), e as u32)));
                         }
                     }
                 }
@@ -296,11 +309,12 @@ impl Relaxed {
             for &e in &self.eff[o] {
                 if ws.value[e] > target {
                     ws.value[e] = target;
-                    ws.heap.push(Reverse((Prio(target), e)));
+                    ws.heap.push(Reverse((key(target), e as u32)));
                 }
             }
         }
-        while let Some(Reverse((Prio(d), f))) = ws.heap.pop() {
+        while let Some(Reverse((d, f))) = ws.heap.pop() {
+            let (d, f) = (f64::from_bits(d), f as usize);
             if d > ws.value[f] {
                 continue;
             }
@@ -324,7 +338,7 @@ impl Relaxed {
                     for &e in &self.eff[o] {
                         if ws.value[e] > target {
                             ws.value[e] = target;
-                            ws.heap.push(Reverse((Prio(target), e)));
+                            ws.heap.push(Reverse((key(target), e as u32)));
                         }
                     }
                 }
@@ -393,6 +407,26 @@ pub struct Workspace {
     cut: Vec<usize>,
     mark: Vec<bool>,
     seen: Vec<bool>,
-    heap: BinaryHeap<Reverse<(Prio, usize)>>,
+    heap: BinaryHeap<Reverse<(u64, u32)>>,
     by_sup: Vec<Vec<usize>>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::key;
+
+    #[test]
+    fn heap_keys_order_as_the_non_negative_values_they_encode() {
+        let xs = [0.0, -0.0, 1e-300, 0.5, 1.0, 2.0, 1e300, f64::INFINITY];
+        for a in xs {
+            for b in xs {
+                // −0 and +0 are one key, as they are one number.
+                assert_eq!(
+                    key(a).cmp(&key(b)),
+                    a.partial_cmp(&b).unwrap(),
+                    "{a} vs {b}"
+                );
+            }
+        }
+    }
 }
