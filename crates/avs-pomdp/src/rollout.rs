@@ -266,9 +266,9 @@ impl OnePassModel {
         found.max(self.absent_value(s)).max(self.base_value(s))
     }
 
-    /// Depth-limited expectimax over the allowed actions with [`Self::leaf`] values; returns the
-    /// value and the action. Ties go to the lower action index of the view-cone model (process
-    /// 0…n−1, found 0…n−1, absent).
+    /// Depth-limited expectimax over the allowed actions, whose leaves are worth the better of
+    /// declaring and following the base pass; returns the value and the action. Ties go to the
+    /// lower action index of the view-cone model (process 0…n−1, found 0…n−1, absent).
     pub fn decide(&self, s: &OnePassState, depth: usize) -> (f64, ViewConeAction) {
         let mut best = (f64::NEG_INFINITY, ViewConeAction::DeclareAbsent);
         for i in (0..self.n).filter(|&i| s.may_process(i)) {
