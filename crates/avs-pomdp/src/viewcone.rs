@@ -427,6 +427,15 @@ impl ViewConePomdp {
             .collect()
     }
 
+    /// The generic action index of a view-cone action (the inverse of [`Self::action`]).
+    pub fn index(&self, a: ViewConeAction) -> usize {
+        match a {
+            ViewConeAction::Process { cone } => cone,
+            ViewConeAction::DeclareFound { cone } => self.n + cone,
+            ViewConeAction::DeclareAbsent => 2 * self.n,
+        }
+    }
+
     /// Map a generic action index to a view-cone action.
     pub fn action(&self, a: usize) -> ViewConeAction {
         if a < self.n {
@@ -506,6 +515,13 @@ impl Default for SessionOptions {
     }
 }
 
+/// How a session decides: RTBSS over its offline bounds, or the one-pass rollout with its state.
+#[derive(Debug, Clone)]
+enum Decider {
+    Rtbss(Bounds),
+    OnePass(OnePassModel, OnePassState),
+}
+
 /// A closed-loop DT session: `next_action()`, `observe(detected)`, …, until `outcome()` is `Some`.
 ///
 /// ```
@@ -537,10 +553,7 @@ impl Default for SessionOptions {
 #[derive(Debug, Clone)]
 pub struct ViewConeSession {
     model: ViewConePomdp,
-    /// The offline bounds (RTBSS sessions only).
-    bounds: Option<Bounds>,
-    /// The one-pass model and state (one-pass sessions only).
-    one_pass: Option<(OnePassModel, OnePassState)>,
+    decider: Decider,
     belief: Vec<f64>,
     opts: SessionOptions,
     pending: Option<usize>,
@@ -563,7 +576,7 @@ impl ViewConeSession {
             ));
         }
         let m = model.pomdp();
-        let (bounds, one_pass) = match opts.policy {
+        let decider = match opts.policy {
             SessionPolicy::Rtbss => {
                 let mut bounds = Bounds::initial(m, opts.offline.init_iterations);
                 if opts.sweep_bounds {
@@ -578,7 +591,7 @@ impl ViewConeSession {
                     trials = sol.trials,
                     "view-cone session bounds"
                 );
-                (Some(sol.bounds), None)
+                Decider::Rtbss(sol.bounds)
             }
             SessionPolicy::OnePassRollout => {
                 let prior = model.cone_belief(m.initial_belief());
@@ -590,13 +603,12 @@ impl ViewConeSession {
                     pos: 0,
                     recheck: None,
                 };
-                (None, Some((OnePassModel::new(&model), state)))
+                Decider::OnePass(OnePassModel::new(&model), state)
             }
         };
         Ok(Self {
             belief: m.initial_belief().to_vec(),
-            bounds,
-            one_pass,
+            decider,
             model,
             opts,
             pending: None,
@@ -612,7 +624,10 @@ impl ViewConeSession {
 
     /// The offline bounds in use (`None` for a one-pass session, which needs none).
     pub fn bounds(&self) -> Option<&Bounds> {
-        self.bounds.as_ref()
+        match &self.decider {
+            Decider::Rtbss(b) => Some(b),
+            Decider::OnePass(..) => None,
+        }
     }
 
     /// The current belief over the target's whereabouts.
@@ -641,31 +656,23 @@ impl ViewConeSession {
             return Ok(self.model.action(a));
         }
         let m = self.model.pomdp();
-        let index = |a: ViewConeAction| match a {
-            ViewConeAction::Process { cone } => cone,
-            ViewConeAction::DeclareFound { cone } => self.model.n + cone,
-            ViewConeAction::DeclareAbsent => 2 * self.model.n,
-        };
-        let a = if let Some((model, state)) = &self.one_pass {
-            if self.steps >= self.opts.max_steps {
-                index(model.declare(state))
+        let guard = self.steps >= self.opts.max_steps;
+        let a = match &self.decider {
+            Decider::OnePass(model, state) => self.model.index(if guard {
+                model.declare(state)
             } else {
-                index(model.decide(state, self.opts.online.depth).1)
-            }
-        } else if self.steps >= self.opts.max_steps {
+                model.decide(state, self.opts.online.depth).1
+            }),
             // Guard: best declaration by expected immediate reward.
-            (self.model.n..m.n_actions())
+            Decider::Rtbss(_) if guard => (self.model.n..m.n_actions())
                 .max_by(|x, y| {
                     m.expected_reward(&self.belief, *x)
                         .total_cmp(&m.expected_reward(&self.belief, *y))
                 })
-                .unwrap_or(2 * self.model.n)
-        } else if let Some(bounds) = &self.bounds {
-            rtbss_sparse(m, bounds, &to_sparse(&self.belief), &self.opts.online)?.action
-        } else {
-            return Err(PomdpError::InvalidArgument(
-                "a session has either bounds or a one-pass model".into(),
-            ));
+                .unwrap_or(2 * self.model.n),
+            Decider::Rtbss(bounds) => {
+                rtbss_sparse(m, bounds, &to_sparse(&self.belief), &self.opts.online)?.action
+            }
         };
         let action = self.model.action(a);
         match action {
@@ -689,7 +696,7 @@ impl ViewConeSession {
         let z = if detected { 0 } else { 1 };
         let (b, _) = self.model.pomdp().update(&self.belief, a, z)?;
         self.belief = b;
-        if let Some((model, state)) = &mut self.one_pass {
+        if let Decider::OnePass(model, state) = &mut self.decider {
             match model.after(state, a, detected) {
                 Some((_, next)) => *state = next,
                 None => {
