@@ -114,13 +114,11 @@ pub fn load_edited_world(
     let file = path.display().to_string();
     // The file as written gets `avs validate`'s checks with lines and columns; the edited
     // environment gets them again when its world is built.
-    let mut env = World::load(path)
-        .map_err(|e| EvalError::Load {
-            what: "environment",
-            file: file.clone(),
-            message: e.to_string(),
-        })?
-        .env;
+    let mut env = World::read_checked(path, None).map_err(|e| EvalError::Load {
+        what: "environment",
+        file: file.clone(),
+        message: e.to_string(),
+    })?;
     edit_environment(&mut env, edits, &file).map_err(|(which, message)| EvalError::Field {
         file: file.clone(),
         field: describe(which),

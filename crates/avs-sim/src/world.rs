@@ -142,6 +142,17 @@ impl World {
     /// [`World::load`], also checking the environment's class names against `knowledge` (as
     /// `avs validate --knowledge` does).
     pub fn load_checked(path: &Path, knowledge: Option<&Knowledge>) -> Result<Self, SimError> {
+        let env = Self::read_checked(path, knowledge)?;
+        Self::build(env, path.parent().unwrap_or(Path::new(".")))
+    }
+
+    /// Read an environment file and run `avs validate`'s checks on it (class names too when
+    /// `knowledge` is given), each problem with its line and column; the environment, for a
+    /// caller that edits it before building its world (with [`World::named`]).
+    pub fn read_checked(
+        path: &Path,
+        knowledge: Option<&Knowledge>,
+    ) -> Result<Environment, SimError> {
         let env: Environment = avs_format::load_yaml(path).map_err(|e| SimError::Invalid {
             field: path.display().to_string(),
             message: e.to_string(),
@@ -155,7 +166,7 @@ impl World {
             }
             return Err(SimError::Checks(diagnostics));
         }
-        Self::build(env, base)
+        Ok(env)
     }
 
     /// The ground-truth room (index into `env.rooms`) at a world point.
