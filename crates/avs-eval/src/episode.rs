@@ -119,11 +119,7 @@ pub fn load_domain(path: &Path) -> Result<Domain, EvalError> {
 
 /// Read an environment file into a world.
 pub fn load_world(path: &Path) -> Result<World, EvalError> {
-    World::load(path).map_err(|e| EvalError::Load {
-        what: "environment",
-        file: path.display().to_string(),
-        message: e.to_string(),
-    })
+    World::load(path).map_err(|e| EvalError::environment(&path.display().to_string(), e))
 }
 
 /// Read the environment, knowledge and domain files of a search.

@@ -33,3 +33,19 @@ pub enum EvalError {
     #[error(transparent)]
     Agent(#[from] AgentError),
 }
+
+impl EvalError {
+    /// An environment file's world could not be built: the checks' diagnostics already name
+    /// the file (with line and column), so they are the message as they are; anything else is
+    /// a load error of `file`.
+    pub fn environment(file: &str, e: avs_sim::SimError) -> Self {
+        match e {
+            avs_sim::SimError::Checks(_) => Self::Sim(e.to_string()),
+            e => Self::Load {
+                what: "environment",
+                file: file.to_string(),
+                message: e.to_string(),
+            },
+        }
+    }
+}
