@@ -207,3 +207,30 @@ fn a_start_off_the_map_is_refused_as_validate_refuses_it() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `avs search` checks the environment's class names against its `--knowledge`, as `avs
+/// validate --knowledge` does: an object of a class the knowledge does not know is an input
+/// error at its line, not a search that never looks for it.
+#[test]
+fn an_object_of_an_unknown_class_is_refused_as_validate_refuses_it() {
+    let dir = std::env::temp_dir().join(format!("avs-search-class-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let text = std::fs::read_to_string(root.join("domains/environments/office.yaml")).unwrap();
+    let mug = "id: mug1, class: mug,";
+    assert!(text.contains(mug), "the shipped office's mug moved");
+    let env = dir.join("teapot.yaml");
+    std::fs::write(&env, text.replace(mug, "id: mug1, class: teapot,")).unwrap();
+    let env_s = env.to_str().unwrap();
+    let mut args = OFFICE.to_vec();
+    args[2] = env_s;
+    args.extend(["--goal", "cerealbox"]);
+    let o = avs(&args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains(&format!("{env_s}:")) && err.contains(".class") && err.contains("teapot"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

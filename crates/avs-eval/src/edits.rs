@@ -4,6 +4,7 @@
 
 use crate::EvalError;
 use avs_format::environment::Environment;
+use avs_format::knowledge::Knowledge;
 pub use avs_format::scenario::{RemoveObjects, Start};
 use avs_sim::World;
 use std::collections::BTreeSet;
@@ -104,17 +105,20 @@ pub fn edit_environment(
     Ok(())
 }
 
-/// Read the environment file `path` and apply `edits`; errors name the file and the edit
+/// Read the environment file `path`, check it as `avs validate` does (its class names too,
+/// against `knowledge` when given) and apply `edits`; errors name the file and the edit
 /// (`describe` turns an [`EditField`] into the caller's name for it, e.g. a flag).
 pub fn load_edited_world(
     path: &Path,
+    knowledge: Option<&Knowledge>,
     edits: &WorldEdits,
     describe: impl Fn(EditField) -> String,
 ) -> Result<World, EvalError> {
     let file = path.display().to_string();
     // The file as written gets `avs validate`'s checks with lines and columns; the edited
     // environment gets them again when its world is built.
-    let mut env = World::read_checked(path, None).map_err(|e| EvalError::environment(&file, e))?;
+    let mut env =
+        World::read_checked(path, knowledge).map_err(|e| EvalError::environment(&file, e))?;
     edit_environment(&mut env, edits, &file).map_err(|(which, message)| EvalError::Field {
         file: file.clone(),
         field: describe(which),

@@ -210,11 +210,12 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
             }
         }
     };
-    let world = load_edited_world(env, &r.edits, |f| match f {
+    let (k, d) = (load_knowledge(knowledge)?, load_domain(domain)?);
+    // The environment gets `avs validate --knowledge`'s checks, class names included.
+    let world = load_edited_world(env, Some(&k), &r.edits, |f| match f {
         EditField::CloseDoor(i) => format!("--close-door #{}", i + 1),
         EditField::RemoveClass(i) | EditField::RemoveId(i) => format!("--remove #{}", i + 1),
     })?;
-    let (k, d) = (load_knowledge(knowledge)?, load_domain(domain)?);
     for class in r.before.iter().chain([&goal.to_string()]) {
         anyhow::ensure!(
             k.class(class).is_some(),
