@@ -225,7 +225,8 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
             let odo = self.robot.odometry();
             let r = self.robot.move_to(Pose2D::new(w[0], w[1], yaw));
             self.book(odo);
-            let detour = self.robot.odometry() - odo > detour_factor * dist(prev, w) + 1.0;
+            let moved = self.robot.odometry() - odo;
+            let detour = moved > detour_factor * dist(prev, w) + 1.0;
             let now = self.robot.pose();
             let grid = self.robot.map_update().grid;
             mem.wm.places.robot_moved(&grid, prev, [now.x, now.y]);
@@ -237,9 +238,7 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
             if let Err(e) = r {
                 // Only a motion that started and failed where it stood says the robot cannot
                 // move; an unreachable target says something about the map.
-                if e.reason == avs_robot::FailureReason::ExecutionFailed
-                    && self.robot.odometry() - odo < STUCK_M
-                {
+                if e.reason == avs_robot::FailureReason::ExecutionFailed && moved < STUCK_M {
                     self.stuck = (self.stuck.0 + 1, e.to_string());
                 } else {
                     self.stuck.0 = 0;
@@ -247,7 +246,7 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
                 result = Err(MoveFailure::Robot(e));
                 break;
             }
-            if self.robot.odometry() - odo >= STUCK_M {
+            if moved >= STUCK_M {
                 self.stuck.0 = 0;
             }
             if detour {

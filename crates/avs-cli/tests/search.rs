@@ -162,50 +162,66 @@ fn a_door_closing_mid_run_ends_in_a_verdict() {
     assert!(!summary["reason"].as_str().unwrap().is_empty());
 }
 
+/// The shipped office with `from` replaced by `to`, written to a scratch directory of its own
+/// (`tag` names it); the directory and the file.
+fn edited_office(tag: &str, from: &str, to: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+    let dir = std::env::temp_dir().join(format!("avs-search-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let text = std::fs::read_to_string(root.join("domains/environments/office.yaml")).unwrap();
+    assert!(
+        text.contains(from),
+        "the shipped office no longer has `{from}`"
+    );
+    let env = dir.join(format!("{tag}.yaml"));
+    std::fs::write(&env, text.replace(from, to)).unwrap();
+    (dir, env)
+}
+
+/// `avs search` for the cerealbox in the shipped office (or in `env`), with `extra` flags:
+/// the exit code and what it wrote to stderr.
+fn search_for_cerealbox(env: Option<&str>, extra: &[&str]) -> (Option<i32>, String) {
+    let mut args = OFFICE.to_vec();
+    if let Some(env) = env {
+        args[2] = env;
+    }
+    args.extend(["--goal", "cerealbox"]);
+    args.extend(extra);
+    let o = avs(&args);
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
 /// `avs search` runs the checks `avs validate` runs: a start off the map (at 1e19 m the
 /// search hung in a line of sight) is an input error naming the file, line and field, in
 /// the file or through `--start`.
 #[test]
 fn a_start_off_the_map_is_refused_as_validate_refuses_it() {
-    let dir = std::env::temp_dir().join(format!("avs-search-offmap-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
-    let text = std::fs::read_to_string(root.join("domains/environments/office.yaml")).unwrap();
     let start = "start: { x: 1.0, y: 1.2, yaw_deg: 0 }";
-    assert!(text.contains(start), "the shipped office's start moved");
     for x in ["1000", "1e19", "-3"] {
-        let env = dir.join(format!("off_{x}.yaml"));
-        std::fs::write(
-            &env,
-            text.replace(start, &format!("start: {{ x: {x}, y: 1.2, yaw_deg: 0 }}")),
-        )
-        .unwrap();
+        let moved = format!("start: {{ x: {x}, y: 1.2, yaw_deg: 0 }}");
+        let (dir, env) = edited_office(&format!("offmap{x}"), start, &moved);
         let env_s = env.to_str().unwrap();
         let validate = avs(&["validate", env_s]);
         assert_eq!(validate.status.code(), Some(1), "validate accepted x = {x}");
-        let mut args = OFFICE.to_vec();
-        args[2] = env_s;
-        args.extend(["--goal", "cerealbox"]);
-        let o = avs(&args);
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(o.status.code(), Some(1), "x = {x}: {err}");
+        let (code, err) = search_for_cerealbox(Some(env_s), &[]);
+        assert_eq!(code, Some(1), "x = {x}: {err}");
         assert!(
             err.contains(&format!("{env_s}:116:"))
                 && err.contains("robot.start")
                 && err.contains("outside the map"),
             "x = {x}: {err}"
         );
+        std::fs::remove_dir_all(&dir).ok();
     }
-    let mut args = OFFICE.to_vec();
-    args.extend(["--goal", "cerealbox", "--start", "1e19,0,0"]);
-    let o = avs(&args);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
+    let (code, err) = search_for_cerealbox(None, &["--start", "1e19,0,0"]);
+    assert_eq!(code, Some(1), "{err}");
     assert!(
         err.contains("robot.start") && err.contains("outside the map"),
         "{err}"
     );
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// `avs search` checks the environment's class names against its `--knowledge`, as `avs
@@ -213,21 +229,14 @@ fn a_start_off_the_map_is_refused_as_validate_refuses_it() {
 /// error at its line, not a search that never looks for it.
 #[test]
 fn an_object_of_an_unknown_class_is_refused_as_validate_refuses_it() {
-    let dir = std::env::temp_dir().join(format!("avs-search-class-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
-    let text = std::fs::read_to_string(root.join("domains/environments/office.yaml")).unwrap();
-    let mug = "id: mug1, class: mug,";
-    assert!(text.contains(mug), "the shipped office's mug moved");
-    let env = dir.join("teapot.yaml");
-    std::fs::write(&env, text.replace(mug, "id: mug1, class: teapot,")).unwrap();
+    let (dir, env) = edited_office(
+        "teapot",
+        "id: mug1, class: mug,",
+        "id: mug1, class: teapot,",
+    );
     let env_s = env.to_str().unwrap();
-    let mut args = OFFICE.to_vec();
-    args[2] = env_s;
-    args.extend(["--goal", "cerealbox"]);
-    let o = avs(&args);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
+    let (code, err) = search_for_cerealbox(Some(env_s), &[]);
+    assert_eq!(code, Some(1), "{err}");
     assert!(
         err.contains(&format!("{env_s}:")) && err.contains(".class") && err.contains("teapot"),
         "{err}"

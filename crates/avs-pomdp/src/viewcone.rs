@@ -594,15 +594,7 @@ impl ViewConeSession {
                 Decider::Rtbss(sol.bounds)
             }
             SessionPolicy::OnePassRollout => {
-                let prior = model.cone_belief(m.initial_belief());
-                let mut mass = prior.in_cone;
-                mass.push(prior.absent);
-                let state = OnePassState {
-                    open: vec![true; model.n_cones()],
-                    mass,
-                    pos: 0,
-                    recheck: None,
-                };
+                let state = OnePassState::start(&model.cone_belief(m.initial_belief()).in_cone);
                 Decider::OnePass(OnePassModel::new(&model), state)
             }
         };
