@@ -1,7 +1,7 @@
 //! CREATEVIEWCONES: view planning by coverage (Sjöö et al., `004` §2.1).
 //!
 //! Candidate views are every reachable robot pose × camera pan × tilt on a grid of half the field of
-//! view (so neighbouring views overlap by half). A point is covered by a view when (§2.1.2–2.1.3)
+//! view (so neighbouring views overlap by half), at most [`MAX_ANGLE_STEPS`] angles per axis. A point is covered by a view when (§2.1.2–2.1.3)
 //! * it lies inside the horizontal and vertical field of view around the view direction,
 //! * its distance from the camera is within the object class's `[min, max]` detection range, and
 //! * the caller's line-of-sight predicate holds from the camera to the point (the paper ignores
@@ -87,11 +87,20 @@ impl ViewConePlan {
     }
 }
 
+/// Most camera angle steps per axis and zoom level: a pan over a full turn at steps of 2.8°. A
+/// field of view so narrow that half of it is a finer step (under 5.6° wide, after zoom, over a
+/// full turn) is sampled at this many steps instead, leaving gaps between neighbouring views that the plan's `uncovered`
+/// list reports; without the cap a camera of a 1e-9° field of view asked for 10^12 candidate
+/// angles per pose (issue 18: what validates must run in bounded time and memory).
+pub const MAX_ANGLE_STEPS: usize = 128;
+
+/// `lo..=hi` in equal steps no longer than `step`, at most [`MAX_ANGLE_STEPS`] + 1 angles.
 fn angle_steps(lo: f64, hi: f64, step: f64) -> Vec<f64> {
     if hi - lo <= 1e-12 {
         return vec![(lo + hi) / 2.0];
     }
-    let k = ((hi - lo) / step).ceil().max(1.0) as usize;
+    // `as usize` saturates (a NaN becomes 0), so the clamp bounds every input.
+    let k = (((hi - lo) / step).ceil() as usize).clamp(1, MAX_ANGLE_STEPS);
     (0..=k)
         .map(|i| lo + (hi - lo) * i as f64 / k as f64)
         .collect()

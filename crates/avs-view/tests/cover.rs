@@ -291,3 +291,57 @@ fn zoom_levels_below_one_or_not_finite_are_rejected() {
         assert!(e.to_string().contains("zoom"), "{zooms:?}: {e}");
     }
 }
+
+/// Issue 18: a camera with a 1e-9° field of view validated and then asked for 10^12 candidate
+/// angles per pose (an allocation of 1.6 TB). The angle grid is capped: the plan returns, every
+/// claimed point is still inside its view, and the gaps between the sparse views are reported.
+#[test]
+fn a_needle_thin_field_of_view_plans_on_a_capped_angle_grid_and_reports_the_gaps() {
+    let pts = room_points();
+    let poses = [[1.0, 2.0, 0.0], [5.0, 2.0, PI]];
+    let range = DetectionRange { min: 0.5, max: 4.0 };
+    let cam = CameraModel {
+        hfov: 1e-9f64.to_radians(),
+        vfov: 1e-9f64.to_radians(),
+        ..camera()
+    };
+    let plan = create_view_cones_zoomed(
+        &pts,
+        &poses,
+        &cam,
+        range,
+        &[1.0, 2.0, 4.0, 128.0],
+        |_, _| true,
+    )
+    .unwrap();
+    for v in &plan.views {
+        let at_zoom = CameraModel {
+            hfov: cam.hfov / v.zoom,
+            vfov: cam.vfov / v.zoom,
+            ..cam
+        };
+        let r = DetectionRange {
+            min: range.min * v.zoom,
+            max: range.max * v.zoom,
+        };
+        for &k in &v.covered {
+            assert!(
+                sees(v, &at_zoom, r, pts[k]),
+                "point {k} is not visible from {v:?}"
+            );
+        }
+    }
+    assert!(
+        !plan.uncovered.is_empty(),
+        "a needle-thin camera cannot cover a room"
+    );
+    assert_eq!(
+        plan.uncovered.len()
+            + plan
+                .views
+                .iter()
+                .map(|v| v.newly_covered.len())
+                .sum::<usize>(),
+        pts.len()
+    );
+}
