@@ -95,14 +95,23 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
         self.robot.odometry()
     }
 
-    /// The laser map as the robot knows it now.
+    /// The laser map as the robot knows it now (doors the robot reports are not filed: for a
+    /// memory's first map, before there is a memory).
     pub fn laser_map(&mut self) -> avs_map::grid::OccupancyGrid {
         self.robot.map_update().grid
     }
 
+    /// The robot's map update: its doors filed in `mem` ([`Memory::note_doors`]), its laser
+    /// map returned. The one place the agent reads the robot's map.
+    fn read_map(&mut self, mem: &mut Memory) -> avs_map::grid::OccupancyGrid {
+        let update = self.robot.map_update();
+        mem.note_doors(update.doors);
+        update.grid
+    }
+
     /// Write the robot's current laser map into `mem` (no sync).
     pub fn refresh_map(&mut self, mem: &mut Memory) {
-        mem.grid = self.robot.map_update().grid;
+        mem.grid = self.read_map(mem);
     }
 
     /// Point the camera along `cone` (moving to its pose first if needed) and run the detector
@@ -124,7 +133,7 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
             .move_to(Pose2D::new(p.x, p.y, p.yaw + std::f64::consts::PI));
         let _ = self.robot.move_to(p);
         self.book(before);
-        let grid = self.robot.map_update().grid;
+        let grid = self.read_map(mem);
         mem.wm.places.robot_moved(&grid, [p.x, p.y], [p.x, p.y]);
         mem.grid = grid;
         mem.sync()?;
@@ -141,7 +150,7 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
             .move_to(Pose2D::new(here.x, here.y, here.yaw + std::f64::consts::PI));
         let _ = self.robot.move_to(here);
         self.book(before);
-        let grid = self.robot.map_update().grid;
+        let grid = self.read_map(mem);
         mem.wm.places.update(&grid);
         mem.grid = grid;
         mem.sync()?;
@@ -228,7 +237,7 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
             let moved = self.robot.odometry() - odo;
             let detour = moved > detour_factor * dist(prev, w) + 1.0;
             let now = self.robot.pose();
-            let grid = self.robot.map_update().grid;
+            let grid = self.read_map(mem);
             mem.wm.places.robot_moved(&grid, prev, [now.x, now.y]);
             mem.wm.places.update(&grid);
             mem.grid = grid;

@@ -134,6 +134,7 @@ impl Agent {
                 mem
             }
         };
+        let rejected_before = mem.rejected.len();
         look_around(cx, mem, &mut body, &mut run)?;
         let end = match cx.config.strategy {
             Strategy::Planner => {
@@ -156,6 +157,14 @@ impl Agent {
                 Some(GiveUpReason::GoalAlreadyHolds),
             ),
             Err(g) => {
+                let g = g.hindered(
+                    mem,
+                    body.at(),
+                    run.failed_actions(),
+                    &goal.class,
+                    rejected_before,
+                );
+                run.doors(mem);
                 run.give_up(&g);
                 (None, g.to_string(), Some(g))
             }
@@ -272,7 +281,7 @@ fn main_loop<R: Robot + ?Sized>(
                 StepEnd::Replan(ReplanReason::ActionFailed(f)) => Outcome::Failed(f.to_string()),
                 _ => Outcome::Ok,
             };
-            run.finished(step.display.clone(), outcome, body.pose3(), body.odometry());
+            run.finished(step.display.clone(), outcome, body, mem);
             match end {
                 StepEnd::Found(f) => {
                     run.emit(Event::ActionStarted {

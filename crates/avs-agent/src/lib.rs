@@ -158,6 +158,15 @@
 //!   started and failed where the robot stood (an unreachable target does not count: that is
 //!   the map, and the next plan goes elsewhere). Before, it spent the plan budget and a whole
 //!   coverage of refused motions and said "every reachable room was covered twice".
+//! * **A give-up names its cause** ([`GiveUpReason::Hindered`], [`Hindrances`]): after the
+//!   reason the search stopped (the plan budget, the success threshold, the coverage), the
+//!   closed doors that cut the robot off from space it could not search (a door the robot
+//!   reports seen closed, [`avs_robot::MapUpdate::doors`], with known free space the robot can
+//!   reach on one side and space it cannot reach on the other), how many actions failed and
+//!   the last failure, and how many sightings of the goal's class a closer look did not
+//!   confirm. The trace shows a door the moment it is first seen closed, opens or closes
+//!   ([`Event::DoorSeen`]). A robot without a door detector reports no doors, and a closed
+//!   door is then only a wall: the reason cannot name what the robot cannot perceive.
 //! * **Monitoring** uses the continual planner's monitor after every physical step; a move onto
 //!   a placeholder and the EXPLORE-PLACEHOLDER that follows run together (the frontier may vanish
 //!   on arrival). After every DT session the agent replans (the virtual object was matched to the
@@ -262,7 +271,7 @@ pub mod world_model;
 pub use config::{AgentConfig, Strategy, Tuning};
 pub use error::AgentError;
 pub use executive::Agent;
-pub use reason::{GiveUpReason, MoveFailure, ReplanReason};
+pub use reason::{FailedActions, GiveUpReason, Hindrances, MoveFailure, ReplanReason};
 pub use report::{Activity, FoundObject, Goal, Metrics, PathBreakdown, SearchReport};
 pub use trace::{Event, Outcome, SessionOutcome, TraceSink, View};
 

@@ -233,6 +233,13 @@ pub enum GiveUpReason {
         /// The robot's last refusal.
         last: String,
     },
+    /// The search gave up for `reason`, and what stood in its way: the cause named (issue 18).
+    Hindered {
+        /// Why the search stopped.
+        reason: Box<GiveUpReason>,
+        /// What stood in its way.
+        by: Hindrances,
+    },
     /// The planner would have given up for `planner`; the coverage then ended for `coverage`.
     AfterCoverage {
         /// Why the planner stopped.
@@ -240,6 +247,146 @@ pub enum GiveUpReason {
         /// Why the coverage stopped.
         coverage: Box<GiveUpReason>,
     },
+}
+
+/// The actions of a search that failed: how many, of how many, and the last failure.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FailedActions {
+    /// Actions that failed.
+    pub failed: usize,
+    /// Actions executed.
+    pub actions: usize,
+    /// The last failed action and its failure, as the trace says them.
+    pub last: String,
+}
+
+/// What stood in the way of a search that gave up: the causes a give-up names.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Hindrances {
+    /// Closed doors that cut the robot off from space it could not search, by the robot's
+    /// names, with the centres of their openings
+    /// ([`crate::memory::Memory::closed_doors_cutting_off`]).
+    pub closed_doors: Vec<(String, [f64; 2])>,
+    /// The actions of the search that failed, when any did.
+    pub failed_actions: Option<FailedActions>,
+    /// Sightings of the goal's class that a closer look did not confirm (false alarms,
+    /// look-alikes).
+    pub unconfirmed: usize,
+    /// The goal's class.
+    pub class: String,
+}
+
+impl Hindrances {
+    /// Whether nothing stood in the way.
+    pub fn is_empty(&self) -> bool {
+        self.closed_doors.is_empty() && self.failed_actions.is_none() && self.unconfirmed == 0
+    }
+}
+
+impl fmt::Display for Hindrances {
+    /// Each cause as `; …`, to follow the reason it explains.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if !self.closed_doors.is_empty() {
+            let names: Vec<String> = self
+                .closed_doors
+                .iter()
+                .map(|(name, at)| format!("{name} at ({:.2}, {:.2})", at[0], at[1]))
+                .collect();
+            let (door, cuts) = if self.closed_doors.len() == 1 {
+                ("door", "cuts")
+            } else {
+                ("doors", "cut")
+            };
+            write!(
+                f,
+                "; the closed {door} {} {cuts} the robot off from space it could not search",
+                names.join(", ")
+            )?;
+        }
+        if let Some(a) = &self.failed_actions {
+            write!(
+                f,
+                "; {} of {} actions failed (the last: {})",
+                a.failed, a.actions, a.last
+            )?;
+        }
+        let class = &self.class;
+        match self.unconfirmed {
+            0 => Ok(()),
+            1 => write!(
+                f,
+                "; 1 sighting of a {class} was not confirmed by a closer look"
+            ),
+            n => write!(
+                f,
+                "; {n} sightings of a {class} were not confirmed by a closer look"
+            ),
+        }
+    }
+}
+
+impl GiveUpReason {
+    /// This reason with what stood in the search's way: the closed doors that cut the robot
+    /// (at `at`) off from space it could not search, the actions that failed, and the sightings of the
+    /// goal's `class` that a closer look did not confirm (those after the first
+    /// `rejected_before` of the memory's rejected sightings: the search's own). Unchanged when
+    /// nothing did, or when the search did not fail (the goal already held, the class is
+    /// unknown); a robot that cannot move names its failures itself.
+    pub(crate) fn hindered(
+        self,
+        mem: &crate::memory::Memory,
+        at: [f64; 2],
+        failed_actions: Option<FailedActions>,
+        class: &str,
+        rejected_before: usize,
+    ) -> Self {
+        if matches!(self, Self::GoalAlreadyHolds | Self::UnknownClass(_)) {
+            return self;
+        }
+        let by = Hindrances {
+            closed_doors: mem
+                .closed_doors_cutting_off(at)
+                .into_iter()
+                .map(|d| (d.name.clone(), [d.x, d.y]))
+                .collect(),
+            failed_actions: failed_actions.filter(|_| !self.cannot_move()),
+            unconfirmed: mem
+                .rejected
+                .iter()
+                .skip(rejected_before)
+                .filter(|(c, _)| c == class)
+                .count(),
+            class: class.to_string(),
+        };
+        if by.is_empty() {
+            self
+        } else {
+            Self::Hindered {
+                reason: Box::new(self),
+                by,
+            }
+        }
+    }
+
+    /// What stood in the way of the search, when the reason names it.
+    pub fn hindrances(&self) -> Option<&Hindrances> {
+        match self {
+            Self::Hindered { by, .. } => Some(by),
+            _ => None,
+        }
+    }
+
+    /// Whether the search gave up because the robot cannot move (at any level of the reason).
+    pub fn cannot_move(&self) -> bool {
+        match self {
+            Self::CannotMove { .. } => true,
+            Self::Hindered { reason, .. } => reason.cannot_move(),
+            Self::AfterCoverage { planner, coverage } => {
+                planner.cannot_move() || coverage.cannot_move()
+            }
+            _ => false,
+        }
+    }
 }
 
 impl fmt::Display for GiveUpReason {
@@ -274,6 +421,7 @@ impl fmt::Display for GiveUpReason {
             }
             Self::UnknownClass(c) => write!(f, "unknown class {c}"),
             Self::AfterCoverage { planner, coverage } => write!(f, "{planner}; then {coverage}"),
+            Self::Hindered { reason, by } => write!(f, "{reason}{by}"),
         }
     }
 }
@@ -318,5 +466,58 @@ mod tests {
             g.to_string(),
             "gave up after 30 plans without finding a mug; then every reachable room was covered twice and no placeholder is left: no mug found"
         );
+    }
+
+    #[test]
+    fn a_hindered_give_up_names_each_cause_after_the_reason() {
+        let reason = || {
+            Box::new(GiveUpReason::Covered {
+                passes: 1,
+                class: "mug".into(),
+            })
+        };
+        let by = Hindrances {
+            closed_doors: vec![("door_kitchen".into(), [6.05, 2.6])],
+            failed_actions: Some(FailedActions {
+                failed: 3,
+                actions: 40,
+                last: "MOVE placeholder2: action failed: Unreachable: no path".into(),
+            }),
+            unconfirmed: 2,
+            class: "mug".into(),
+        };
+        let g = GiveUpReason::Hindered {
+            reason: reason(),
+            by: by.clone(),
+        };
+        assert_eq!(
+            g.to_string(),
+            "every reachable room was covered and no placeholder is left: no mug found; \
+             the closed door door_kitchen at (6.05, 2.60) cuts the robot off from space it could \
+             not search; 3 of 40 actions failed (the last: MOVE placeholder2: action failed: \
+             Unreachable: no path); 2 sightings of a mug were not confirmed by a closer look"
+        );
+        assert_eq!(g.hindrances(), Some(&by));
+        assert!(!g.cannot_move());
+        let two_doors = GiveUpReason::Hindered {
+            reason: reason(),
+            by: Hindrances {
+                closed_doors: vec![("a".into(), [0.0, 0.0]), ("b".into(), [1.0, 0.0])],
+                failed_actions: None,
+                unconfirmed: 0,
+                class: "mug".into(),
+            },
+        };
+        assert!(two_doors
+            .to_string()
+            .ends_with("; the closed doors a at (0.00, 0.00), b at (1.00, 0.00) cut the robot off from space it could not search"));
+        let stuck = GiveUpReason::AfterCoverage {
+            planner: reason(),
+            coverage: Box::new(GiveUpReason::CannotMove {
+                failures: 5,
+                last: "drive fault".into(),
+            }),
+        };
+        assert!(stuck.cannot_move());
     }
 }

@@ -1,9 +1,12 @@
 //! [`Run`]: what belongs to one search and not to the agent's memory — the trace as it is
 //! written, the figures, and what the coverage has looked at.
 
-use crate::reason::GiveUpReason;
+use crate::body::Body;
+use crate::memory::Memory;
+use crate::reason::{FailedActions, GiveUpReason};
 use crate::report::{FoundObject, Metrics};
 use crate::trace::{Event, Outcome, TraceSink};
+use avs_robot::Robot;
 use std::collections::BTreeSet;
 
 /// The key of a point in the set of covered points: the point on a grid of `res` metres.
@@ -30,6 +33,8 @@ pub(crate) struct Run<'s> {
     pub visited: Vec<[f64; 2]>,
     /// The resolution of [`Run::key`], metres.
     key_res: f64,
+    /// Actions finished, how many of them failed, and the last failure (action and outcome).
+    outcomes: (usize, usize, String),
 }
 
 impl<'s> Run<'s> {
@@ -43,6 +48,7 @@ impl<'s> Run<'s> {
             covered: BTreeSet::new(),
             visited: Vec::new(),
             key_res,
+            outcomes: (0, 0, String::new()),
         }
     }
 
@@ -66,14 +72,48 @@ impl<'s> Run<'s> {
         self.events.push(e);
     }
 
-    /// Emit the end of an action: its outcome, the robot's pose and the odometry.
-    pub fn finished(&mut self, action: String, outcome: Outcome, pose: [f64; 3], path_length: f64) {
+    /// Emit the end of an action: its outcome, the robot's pose and the odometry; then the
+    /// door news the action brought ([`Run::doors`]).
+    pub fn finished<R: Robot + ?Sized>(
+        &mut self,
+        action: String,
+        outcome: Outcome,
+        body: &Body<R>,
+        mem: &mut Memory,
+    ) {
+        self.outcomes.0 += 1;
+        if !outcome.succeeded() {
+            self.outcomes.1 += 1;
+            self.outcomes.2 = format!("{action}: {outcome}");
+        }
         self.emit(Event::ActionFinished {
             action,
             outcome,
-            pose,
-            path_length,
+            pose: body.pose3(),
+            path_length: body.odometry(),
         });
+        self.doors(mem);
+    }
+
+    /// The actions of this search that failed so far, when any did.
+    pub fn failed_actions(&self) -> Option<FailedActions> {
+        let (actions, failed, last) = &self.outcomes;
+        (*failed > 0).then(|| FailedActions {
+            failed: *failed,
+            actions: *actions,
+            last: last.clone(),
+        })
+    }
+
+    /// Emit the door sightings not yet in the trace ([`Memory::door_news`]).
+    pub fn doors(&mut self, mem: &mut Memory) {
+        for d in std::mem::take(&mut mem.door_news) {
+            self.emit(Event::DoorSeen {
+                door: d.name,
+                at: [d.x, d.y],
+                open: d.open,
+            });
+        }
     }
 
     /// Emit an observation.

@@ -175,6 +175,16 @@ pub enum Event {
         /// Cones processed.
         steps: usize,
     },
+    /// The robot saw a door closed for the first time, or saw a known door open or close
+    /// ([`avs_robot::MapUpdate::doors`]; doors first seen open are not news).
+    DoorSeen {
+        /// The door's name as the robot reports it.
+        door: String,
+        /// Centre of its opening `[x, y]`, metres.
+        at: [f64; 2],
+        /// Whether it stands open.
+        open: bool,
+    },
     /// The goal was reached: the object's position was reported.
     GoalReached {
         /// The reported object.
@@ -260,6 +270,10 @@ impl Event {
             },
             Event::DtSessionEnded { outcome, steps } => {
                 format!("  DT session ended: {outcome} after {steps} view cones\n")
+            }
+            Event::DoorSeen { door, at, open } => {
+                let state = if *open { "open" } else { "closed" };
+                format!("  * door {door} at {} is {state}\n", xy(at))
             }
             Event::GoalReached { object, pose } => {
                 format!("goal reached: REPORTPOSITION {object} at {}\n", xy(pose))

@@ -97,7 +97,7 @@ pub struct BenchResult {
 }
 
 /// Floor `seed` with a `goal` object, saved to `save` when given.
-fn floor(
+pub(crate) fn floor(
     k: &Knowledge,
     seed: u64,
     p: &BenchParams,
@@ -140,31 +140,7 @@ pub fn bench(
     p: &BenchParams,
     tick: &(dyn Fn() + Sync),
 ) -> Result<BenchResult, EvalError> {
-    let targets: Vec<&str> = knowledge
-        .object_classes
-        .iter()
-        .filter(|c| !c.landmark)
-        .map(|c| c.name.as_str())
-        .collect();
-    if let Some(g) = &p.goal {
-        if knowledge.class(g).is_none() {
-            return Err(EvalError::Field {
-                file: "bench".into(),
-                field: format!("--goal {g}"),
-                message: format!(
-                    "not an object class of the knowledge file; expected one of {}",
-                    targets.join(", ")
-                ),
-            });
-        }
-    }
-    if p.goal.is_none() && targets.is_empty() {
-        return Err(EvalError::Field {
-            file: "bench".into(),
-            field: "knowledge".into(),
-            message: "the knowledge file has no non-landmark object class to search for".into(),
-        });
-    }
+    let targets = goal_classes(knowledge, p.goal.as_deref())?;
     let config = AgentConfig {
         strategy: p.strategy,
         ..AgentConfig::default()
@@ -173,13 +149,7 @@ pub fn bench(
         .into_par_iter()
         .map(|i| -> Result<BenchRun, EvalError> {
             let s = p.seed + i;
-            let g = match &p.goal {
-                Some(g) => g.clone(),
-                None => {
-                    let mut rng = ChaCha8Rng::seed_from_u64(s);
-                    targets[rng.gen_range(0..targets.len())].to_string()
-                }
-            };
+            let g = goal_of_floor(&targets, p.goal.as_deref(), s);
             let world = floor(knowledge, s, p, &g, p.save_floors.as_deref())?;
             let spec = EpisodeSpec {
                 knowledge,
@@ -233,4 +203,51 @@ pub fn bench(
         misleading: p.misleading,
         runs,
     })
+}
+
+/// The classes a bench may search for: the knowledge's non-landmark classes. An error when
+/// `goal` (the class fixed for every floor) is not a class of the knowledge, or when there is
+/// none to draw from.
+pub(crate) fn goal_classes<'k>(
+    knowledge: &'k Knowledge,
+    goal: Option<&str>,
+) -> Result<Vec<&'k str>, EvalError> {
+    let targets: Vec<&str> = knowledge
+        .object_classes
+        .iter()
+        .filter(|c| !c.landmark)
+        .map(|c| c.name.as_str())
+        .collect();
+    if let Some(g) = goal {
+        if knowledge.class(g).is_none() {
+            return Err(EvalError::Field {
+                file: "bench".into(),
+                field: format!("--goal {g}"),
+                message: format!(
+                    "not an object class of the knowledge file; expected one of {}",
+                    targets.join(", ")
+                ),
+            });
+        }
+    }
+    if goal.is_none() && targets.is_empty() {
+        return Err(EvalError::Field {
+            file: "bench".into(),
+            field: "knowledge".into(),
+            message: "the knowledge file has no non-landmark object class to search for".into(),
+        });
+    }
+    Ok(targets)
+}
+
+/// The class searched on floor `seed`: `goal` when fixed, else drawn uniformly from `targets`
+/// by the floor's seed.
+pub(crate) fn goal_of_floor(targets: &[&str], goal: Option<&str>, seed: u64) -> String {
+    match goal {
+        Some(g) => g.to_string(),
+        None => {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            targets[rng.gen_range(0..targets.len())].to_string()
+        }
+    }
 }

@@ -6,6 +6,9 @@
 //! * [`episode`] — one scored episode: a world, a simulated robot with faults, an agent, one
 //!   search, the result scored against the truth (success, error, SPL);
 //! * [`bench`](mod@bench) — the search bench over generated floors (success rate, SPL, path length);
+//! * [`faults`] — the fault matrix: floors × faults (action failures, false positives, doors
+//!   shutting), judged for crashes, hangs, give-ups that do not name their cause and wrong
+//!   reports;
 //! * [`edits`] — world edits before a search (start pose, closed doors, removed objects);
 //! * [`scenario`] — the scenario runner: a scenario file re-enacted (world edits, searches
 //!   before the goal), its expected properties checked and its text trace compared with the
@@ -40,6 +43,7 @@ pub mod bench;
 pub mod edits;
 pub mod episode;
 mod error;
+pub mod faults;
 pub mod scenario;
 pub mod stats;
 

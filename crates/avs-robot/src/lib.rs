@@ -188,6 +188,28 @@ pub struct MapUpdate {
     pub grid: OccupancyGrid,
     /// Cells that became known since the previous map update.
     pub newly_known: usize,
+    /// The doors the robot has seen so far, each as it was last seen (empty for a robot
+    /// without a door detector: a closed door is then only a wall in `grid`).
+    pub doors: Vec<DoorSighting>,
+}
+
+/// A door as the robot last saw it: a robot stack that knows its building's doors (a semantic
+/// map, door signs, a door detector) reports them, so that the agent can say which closed door
+/// cuts off the space it could not search.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DoorSighting {
+    /// The door's name in the robot stack (e.g. the environment file's `doors[].name`).
+    pub name: String,
+    /// Centre of the opening, metres.
+    pub x: f64,
+    /// Centre of the opening, metres.
+    pub y: f64,
+    /// Direction of passage through the door, radians.
+    pub yaw: f64,
+    /// Width of the opening, metres.
+    pub width: f64,
+    /// Whether the door stood open when last seen.
+    pub open: bool,
 }
 
 /// One reading of a place classifier (the size, shape and appearance classifiers of Pronobis

@@ -187,6 +187,7 @@ impl Robot for ScriptedRobot {
         MapUpdate {
             grid: self.grid.clone(),
             newly_known,
+            doors: Vec::new(),
         }
     }
 

@@ -75,8 +75,8 @@ use crate::world::{CameraView, SimError, World};
 use avs_format::knowledge::Knowledge;
 use avs_map::grid::Cell;
 use avs_robot::{
-    ActionFailure, ActionResult, Camera, FailureReason, MapUpdate, MoveReport, PlaceReading,
-    Pose2D, Robot, ViewCone, ViewReport,
+    ActionFailure, ActionResult, Camera, DoorSighting, FailureReason, MapUpdate, MoveReport,
+    PlaceReading, Pose2D, Robot, ViewCone, ViewReport,
 };
 use rand::Rng;
 
@@ -186,6 +186,38 @@ impl<'w> SimAgentRobot<'w> {
         }
     }
 
+    /// The doors the laser has seen, each as the robot's map shows its opening: a door is seen
+    /// once a cell of its opening is known, and is closed when the occupied cells of its
+    /// opening would span at least half its width (the laser marks only the face it hits, so
+    /// a door shut after the robot saw the doorway free keeps free cells behind that face; an
+    /// open doorway has no occupied cell). What the robot reports is what it saw, not the
+    /// truth: a door that shut out of sight still reads open until the laser sees it again.
+    fn doors_seen(&self, known: &avs_map::grid::OccupancyGrid) -> Vec<DoorSighting> {
+        let env = &self.world.env;
+        env.doors
+            .iter()
+            .enumerate()
+            .filter_map(|(i, d)| {
+                let (mut free, mut blocked) = (0usize, 0usize);
+                for &(col, row) in self.world.door_opening(i) {
+                    match known.get(col, row) {
+                        Cell::Free => free += 1,
+                        Cell::Occupied => blocked += 1,
+                        Cell::Unknown => {}
+                    }
+                }
+                (free + blocked > 0).then(|| DoorSighting {
+                    name: d.name.clone(),
+                    x: d.pose.x,
+                    y: d.pose.y,
+                    yaw: d.pose.yaw_deg.to_radians(),
+                    width: d.width,
+                    open: (blocked as f64) * known.resolution() < d.width / 2.0,
+                })
+            })
+            .collect()
+    }
+
     /// Move to `goal`, failing at the configured rate part of the way.
     fn drive(&mut self, goal: [f64; 2]) -> ActionResult<f64> {
         let start = [self.sim.pose[0], self.sim.pose[1]];
@@ -285,7 +317,12 @@ impl Robot for SimAgentRobot<'_> {
             known.saturating_sub(self.known_cells) + relabelled.saturating_sub(self.relabelled);
         self.known_cells = known;
         self.relabelled = relabelled;
-        MapUpdate { grid, newly_known }
+        let doors = self.doors_seen(&grid);
+        MapUpdate {
+            grid,
+            newly_known,
+            doors,
+        }
     }
 
     fn process_view_cone(

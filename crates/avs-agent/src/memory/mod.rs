@@ -17,7 +17,7 @@ use avs_map::memo::Memo;
 use avs_map::nav::{shortest_path_within, Traversability};
 use avs_map::places::dist;
 use avs_map::raycast::line_of_sight;
-use avs_robot::{Detection, Point3};
+use avs_robot::{Detection, DoorSighting, Point3};
 use avs_view::PlannedView;
 use avs_view::Surface;
 use petgraph::graph::NodeIndex;
@@ -151,6 +151,11 @@ pub(crate) struct Memory {
     pub rejected: Vec<(String, [f64; 2])>,
     /// The robot's position as last seen.
     pub at: [f64; 2],
+    /// The doors the robot has reported, each as last seen ([`avs_robot::MapUpdate::doors`]).
+    pub doors: Vec<DoorSighting>,
+    /// Door sightings not yet written to the trace: a door first seen closed, or seen to have
+    /// opened or closed since ([`Memory::note_doors`]).
+    pub door_news: Vec<DoorSighting>,
     /// The room of every cell of `grid` as of the last sync
     /// ([`avs_map::places::PlaceMap::cell_rooms`]).
     pub cell_rooms: Vec<Option<usize>>,
@@ -236,6 +241,8 @@ impl Memory {
             last_target: None,
             rejected: Vec::new(),
             at: [0.0, 0.0],
+            doors: Vec::new(),
+            door_news: Vec::new(),
             cell_rooms: Vec::new(),
             trav_cache: RefCell::new(Vec::new()),
             robot_radius,
@@ -442,6 +449,49 @@ impl Memory {
         self.with_trav(unknown_is_free, |t| path_len_on(t, from, to, max_len))
     }
 
+    /// File the robot's door sightings (a robot reports the doors seen so far, or only some of
+    /// them: a door it does not mention keeps its last sighting). A door first seen closed, or
+    /// seen in another state than before, is news for the trace.
+    pub fn note_doors(&mut self, seen: Vec<DoorSighting>) {
+        for d in seen {
+            match self.doors.iter_mut().find(|k| k.name == d.name) {
+                Some(known) => {
+                    if known.open != d.open {
+                        self.door_news.push(d.clone());
+                    }
+                    *known = d;
+                }
+                None => {
+                    if !d.open {
+                        self.door_news.push(d.clone());
+                    }
+                    self.doors.push(d);
+                }
+            }
+        }
+    }
+
+    /// The doors last seen closed that cut the robot, at `from`, off from space beyond them: on
+    /// one side of the door the robot can reach known free space (a point 1 m from the door's centre
+    /// along its direction of passage), on the other it cannot (the space there is unknown,
+    /// or known but reachable only through the door). Such a door is the cause to name when
+    /// a search gives up (issue 18: a give-up names its cause).
+    pub fn closed_doors_cutting_off(&self, from: [f64; 2]) -> Vec<&DoorSighting> {
+        const PROBE_M: f64 = 1.0;
+        self.doors
+            .iter()
+            .filter(|d| !d.open)
+            .filter(|d| {
+                let (nx, ny) = (d.yaw.cos(), d.yaw.sin());
+                let reach = |s: f64| {
+                    let probe = [d.x + s * PROBE_M * nx, d.y + s * PROBE_M * ny];
+                    self.path_len(from, probe, false).is_some()
+                };
+                reach(1.0) != reach(-1.0)
+            })
+            .collect()
+    }
+
     /// `f` of the traversability of the known map for the robot's radius (unknown cells free
     /// or blocked), computed once per map (see `trav_cache`).
     pub fn with_trav<T>(&self, unknown_is_free: bool, f: impl FnOnce(&Traversability) -> T) -> T {
@@ -518,6 +568,80 @@ impl Memory {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::skills::testing;
+    use crate::AgentConfig;
+
+    /// Where the robot stands in [`two_rooms`].
+    const AT: [f64; 2] = [2.0, 2.0];
+
+    /// Two 4 m × 4 m rooms side by side, the wall between them at x = 4 m with a doorway at
+    /// y ∈ [0.5, 1.4] that is `open`, and a second doorway at y ∈ [2.5, 3.4] when `loop_door`;
+    /// the robot at (2, 2) in the left room knows the whole map.
+    fn two_rooms(open: bool, loop_door: bool) -> Memory {
+        let mut g = testing::room(8.0, 4.0);
+        for row in 0..40 {
+            let first = (5..14).contains(&row) && open;
+            let second = (25..34).contains(&row) && loop_door;
+            if !first && !second {
+                g.set(40, row, Cell::Occupied);
+            }
+        }
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        let mut robot = testing::robot(g, AT);
+        testing::memory(&config, &k, &mut robot)
+    }
+
+    fn door(open: bool) -> DoorSighting {
+        DoorSighting {
+            name: "door_east".into(),
+            x: 4.05,
+            y: 0.95,
+            yaw: 0.0,
+            width: 0.9,
+            open,
+        }
+    }
+
+    #[test]
+    fn a_door_first_seen_closed_or_seen_to_change_is_news_and_one_seen_open_is_not() {
+        let mut mem = two_rooms(true, false);
+        mem.note_doors(vec![door(true)]);
+        assert!(
+            mem.door_news.is_empty(),
+            "a door first seen open is no news"
+        );
+        mem.note_doors(vec![door(true)]);
+        assert!(mem.door_news.is_empty());
+        mem.note_doors(vec![door(false)]);
+        assert_eq!(mem.door_news, vec![door(false)], "seen to close");
+        // A robot that no longer mentions the door leaves its last sighting.
+        mem.note_doors(Vec::new());
+        assert_eq!(mem.doors, vec![door(false)]);
+        let mut fresh = two_rooms(true, false);
+        fresh.note_doors(vec![door(false)]);
+        assert_eq!(fresh.door_news, vec![door(false)], "first seen closed");
+    }
+
+    #[test]
+    fn a_closed_door_cuts_off_the_far_room_unless_another_door_leads_there() {
+        // The doorway is walled up (the door is shut) and the right room is reachable only
+        // through it: the door cuts the robot off.
+        let mut shut = two_rooms(false, false);
+        shut.note_doors(vec![door(false)]);
+        let names: Vec<&str> = shut
+            .closed_doors_cutting_off(AT)
+            .iter()
+            .map(|d| d.name.as_str())
+            .collect();
+        assert_eq!(names, ["door_east"]);
+        // The same door seen open cuts off nothing.
+        shut.note_doors(vec![door(true)]);
+        assert!(shut.closed_doors_cutting_off(AT).is_empty());
+        // Shut, with a second doorway into the right room: nothing is cut off.
+        let mut looped = two_rooms(false, true);
+        looped.note_doors(vec![door(false)]);
+        assert!(looped.closed_doors_cutting_off(AT).is_empty());
+    }
 
     #[test]
     fn a_sighting_is_ignored_only_where_verification_failed_twice() {

@@ -97,7 +97,7 @@ pub(crate) fn cover_all<R: Robot + ?Sized>(
                     Err(e) => Outcome::Failed(e.to_string()),
                 };
                 mem.sync()?;
-                run.finished(action, outcome, body.pose3(), body.odometry());
+                run.finished(action, outcome, body, mem);
                 if look_around {
                     look_around_if_new(cx, mem, body, run);
                 }
@@ -123,7 +123,7 @@ pub(crate) fn cover_all<R: Robot + ?Sized>(
                         Outcome::Failed(e.to_string())
                     }
                 };
-                run.finished(action, outcome, body.pose3(), body.odometry());
+                run.finished(action, outcome, body, mem);
                 if look_around {
                     look_around_if_new(cx, mem, body, run);
                 }
@@ -443,7 +443,7 @@ fn process_views<R: Robot + ?Sized>(
             (_, Some(_)) => Outcome::DetectedAndConfirmed,
             _ => Outcome::Ok,
         };
-        run.finished(action, outcome, body.pose3(), body.odometry());
+        run.finished(action, outcome, body, mem);
         if let Some(d) = confirmed {
             let k = mem.objects.len();
             let place = mem

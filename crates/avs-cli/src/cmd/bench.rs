@@ -1,5 +1,5 @@
 //! `avs bench --generate N --seed S [--rooms K] [--strategy planner|uninformed|frontier|informed]
-//! [--misleading] [--goal CLASS] [--json]`
+//! [--misleading] [--goal CLASS] [--json]`, and `avs bench --faults --generate N …`
 //!
 //! The search benchmark: N generated floors (`avs generate` with seeds S, S+1, …), each with a
 //! target object — the class drawn uniformly from the knowledge file's non-landmark classes
@@ -8,13 +8,22 @@
 //! floor's seed. Success rate and SPL are over the floors whose target is reachable from the
 //! start. Floors run in parallel (rayon); every figure except the timings is independent of
 //! the scheduling. The bench itself is `avs_eval::bench`.
+//!
+//! With `--faults`, the fault matrix instead (`avs_eval::faults`): each floor searched by the
+//! planner once per fault (action failures 10 % and 30 %, false positives ×2 and ×5, the
+//! target's doors shutting early or late or closed from the start), with one table row per
+//! fault: runs, found, gave up, give-ups naming their cause, wrong reports, the slowest run.
 
 use super::defaults::{shipped, KNOWLEDGE};
 use super::run::DOMAIN;
 use anyhow::Context;
+use avs_agent::AgentConfig;
 use avs_agent::Strategy;
 use avs_eval::bench::{bench, BenchParams};
 use avs_eval::episode::{load_domain, load_knowledge};
+use avs_eval::faults::{fault_matrix, Fault, FaultParams};
+use avs_format::knowledge::Knowledge;
+use avs_plan::domain::Domain;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -53,6 +62,11 @@ pub struct Args {
     /// Print the result as JSON (with every run).
     #[arg(long)]
     pub json: bool,
+    /// Run the fault matrix on the floors instead (the planner under each fault; see
+    /// `avs_eval::faults`); `--strategy`, `--misleading`, `--goal` and `--place-classifier`
+    /// do not apply.
+    #[arg(long, conflicts_with_all = ["misleading", "goal", "place_classifier", "save_floors"])]
+    pub faults: bool,
     /// Write each floor's environment to DIR/floor-SEED.yaml, to replay one run with
     /// `avs search --env DIR/floor-SEED.yaml --goal CLASS --seed SEED`.
     #[arg(long, value_name = "DIR")]
@@ -62,21 +76,17 @@ pub struct Args {
 /// Run the subcommand.
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     anyhow::ensure!(a.generate > 0, "--generate 0: expected at least one floor");
-    let kpath = a.knowledge.unwrap_or_else(|| shipped(KNOWLEDGE));
-    let dpath = a.domain.unwrap_or_else(|| shipped(DOMAIN));
+    let kpath = a.knowledge.clone().unwrap_or_else(|| shipped(KNOWLEDGE));
+    let dpath = a.domain.clone().unwrap_or_else(|| shipped(DOMAIN));
     let knowledge = load_knowledge(&kpath)?;
     let domain = load_domain(&dpath)?;
+    if a.faults {
+        return run_faults(&a, &knowledge, &domain);
+    }
     if let Some(dir) = &a.save_floors {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
-    let bar = ProgressBar::new(a.generate as u64);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{prefix} [{bar:30}] {pos}/{len} floors, {elapsed}, eta {eta}",
-        )
-        .context("progress bar template")?
-        .progress_chars("=> "),
-    );
+    let bar = progress(a.generate as u64, "floors")?;
     bar.set_prefix(format!("{:?}", a.strategy).to_lowercase());
     let tick = || bar.inc(1);
     let params = BenchParams {
@@ -121,6 +131,78 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
             println!(
                 "  missed: seed {} {}: {}",
                 run.seed, run.goal, run.summary.reason
+            );
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A progress bar over `len` items named `what`.
+fn progress(len: u64, what: &str) -> anyhow::Result<ProgressBar> {
+    let bar = ProgressBar::new(len);
+    bar.set_style(
+        ProgressStyle::with_template(&format!(
+            "{{prefix}} [{{bar:30}}] {{pos}}/{{len}} {what}, {{elapsed}}, eta {{eta}}"
+        ))
+        .context("progress bar template")?
+        .progress_chars("=> "),
+    );
+    Ok(bar)
+}
+
+/// `--faults`: the fault matrix on the floors.
+fn run_faults(a: &Args, knowledge: &Knowledge, domain: &Domain) -> anyhow::Result<ExitCode> {
+    let faults = Fault::matrix();
+    let bar = progress((a.generate * faults.len()) as u64, "runs")?;
+    bar.set_prefix("faults");
+    let tick = || bar.inc(1);
+    let params = FaultParams {
+        floors: a.generate,
+        seed: a.seed,
+        rooms: a.rooms,
+        faults,
+        config: AgentConfig::default(),
+    };
+    let m = fault_matrix(knowledge, domain, &params, &tick)?;
+    bar.finish_and_clear();
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&m)?);
+        return Ok(ExitCode::SUCCESS);
+    }
+    println!(
+        "fault matrix: {} floors, {} rooms, seed {}",
+        m.floors, m.rooms, m.seed
+    );
+    println!(
+        "| fault | runs | found | gave up | cause named | unconfirmed named | wrong reports | slowest | most actions |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for r in &m.rows {
+        let named = if r.cause_expected == 0 {
+            "–".to_string()
+        } else {
+            format!("{}/{}", r.cause_named, r.cause_expected)
+        };
+        println!(
+            "| {} | {} | {} | {} | {named} | {} | {} | {:.1} s | {} |",
+            r.label,
+            r.runs,
+            r.found,
+            r.gave_up,
+            r.names_unconfirmed,
+            r.wrong_reports,
+            r.slowest_s,
+            r.most_actions
+        );
+    }
+    for run in m.runs.iter().filter(|r| r.applicable) {
+        if run.cause_named == Some(false) || run.wrong_report {
+            println!(
+                "  {}: seed {} {}: {}",
+                run.fault.label(),
+                run.seed,
+                run.goal,
+                run.reason
             );
         }
     }
