@@ -264,8 +264,8 @@ pub struct FailedActions {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Hindrances {
     /// Closed doors that cut the robot off from space it could not search, by the robot's
-    /// names, with the centres of their openings
-    /// ([`crate::memory::Memory::closed_doors_cutting_off`]).
+    /// names, with the centres of their openings: doors last seen closed with known free space
+    /// the robot can reach 1 m from the door on one side, and none it can reach on the other.
     pub closed_doors: Vec<(String, [f64; 2])>,
     /// The actions of the search that failed, when any did.
     pub failed_actions: Option<FailedActions>,
