@@ -38,7 +38,12 @@ fn every_fault_ends_within_budget_with_its_cause_named_and_no_wrong_report_at_fp
             "{what}: {} actions past the budgets",
             r.actions
         );
-        assert_eq!(r.found || r.wrong_report, !r.gave_up, "{what}: {}", r.reason);
+        assert_eq!(
+            r.found || r.wrong_report,
+            !r.gave_up,
+            "{what}: {}",
+            r.reason
+        );
         assert_ne!(r.cause_named, Some(false), "{what}: {}", r.reason);
         let adds_false_alarms = matches!(r.fault, Fault::FalsePositives { scale } if scale > 2.0);
         assert!(
