@@ -243,3 +243,49 @@ fn an_object_of_an_unknown_class_is_refused_as_validate_refuses_it() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Issue 19: the shipped office, knowledge and domain are built into the binary, so `avs run`
+/// and `avs search` without `--env`/`--knowledge`/`--domain` work from a directory with no
+/// checkout in it.
+#[test]
+fn the_defaults_are_built_in_so_run_and_search_work_from_any_directory() {
+    let away = std::env::temp_dir();
+    assert!(
+        !away.join("knowledge/office.yaml").exists(),
+        "{} holds a checkout's files; the test needs a directory without them",
+        away.display()
+    );
+    let in_dir = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_avs"))
+            .args(args)
+            .current_dir(&away)
+            .output()
+            .expect("the avs binary runs")
+    };
+    let run = in_dir(&["run"]);
+    let out = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "{out}{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(out.contains("found cerealbox"), "{out}");
+    let search = in_dir(&["search", "--goal", "mug", "--json"]);
+    let summary: serde_json::Value = serde_json::from_slice(&search.stdout)
+        .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&search.stderr)));
+    assert_eq!(summary["found"], true, "{summary}");
+    // A file named on the command line still wins, and a missing one is an input error.
+    let missing = in_dir(&["search", "--goal", "mug", "--knowledge", "no/such.yaml"]);
+    assert_eq!(missing.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&missing.stderr).contains("no/such.yaml"));
+}
+
+/// Issue 19: `--svg /nonexistent/x.svg` failed only after the whole search.
+#[test]
+fn an_unwritable_svg_path_is_refused_before_the_search_starts() {
+    let out = avs(&["search", "--goal", "mug", "--svg", "/nonexistent/dir/x.svg"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent/dir/x.svg"));
+    let trace = String::from_utf8_lossy(&out.stdout);
+    assert!(!trace.contains("plan 1"), "the search ran first:\n{trace}");
+}

@@ -114,16 +114,5 @@ pub fn load_edited_world(
     edits: &WorldEdits,
     describe: impl Fn(EditField) -> String,
 ) -> Result<World, EvalError> {
-    let file = path.display().to_string();
-    // The file as written gets `avs validate`'s checks with lines and columns; the edited
-    // environment gets them again when its world is built.
-    let mut env =
-        World::read_checked(path, knowledge).map_err(|e| EvalError::environment(&file, e))?;
-    edit_environment(&mut env, edits, &file).map_err(|(which, message)| EvalError::Field {
-        file: file.clone(),
-        field: describe(which),
-        message,
-    })?;
-    let base = path.parent().unwrap_or(Path::new("."));
-    World::named(&file, env, base).map_err(|e| EvalError::environment(&file, e))
+    crate::inputs::Input::read(path)?.edited_world(knowledge, edits, describe)
 }

@@ -1,6 +1,7 @@
 //! One scored episode: a world, a simulated robot with faults, an agent, one search, and the
 //! result scored against the ground truth the agent never saw (`avs_sim::score`).
 
+use crate::inputs::Input;
 use crate::stats::median;
 use crate::EvalError;
 use avs_agent::{Agent, AgentConfig, Event, Goal, PathBreakdown, SearchReport, Strategy};
@@ -98,23 +99,12 @@ pub struct Episode {
 
 /// Read a knowledge file.
 pub fn load_knowledge(path: &Path) -> Result<Knowledge, EvalError> {
-    avs_format::load_yaml(path).map_err(|e| EvalError::Load {
-        what: "knowledge",
-        file: path.display().to_string(),
-        message: e.to_string(),
-    })
+    Input::read(path)?.knowledge()
 }
 
 /// Read and check a planning domain file; the message lists every problem.
 pub fn load_domain(path: &Path) -> Result<Domain, EvalError> {
-    Domain::load(path).map_err(|diags| {
-        let msgs: Vec<String> = diags.iter().map(|d| d.to_string()).collect();
-        EvalError::Load {
-            what: "domain",
-            file: path.display().to_string(),
-            message: format!("invalid:\n{}", msgs.join("\n")),
-        }
-    })
+    Input::read(path)?.domain()
 }
 
 /// Read an environment file into a world.

@@ -9,6 +9,7 @@
 //! * [`faults`] — the fault matrix: floors × faults (action failures, false positives, doors
 //!   shutting), judged for crashes, hangs, give-ups that do not name their cause and wrong
 //!   reports;
+//! * [`inputs`] — input files, and the shipped defaults embedded in the program;
 //! * [`edits`] — world edits before a search (start pose, closed doors, removed objects);
 //! * [`scenario`] — the scenario runner: a scenario file re-enacted (world edits, searches
 //!   before the goal), its expected properties checked and its text trace compared with the
@@ -44,6 +45,7 @@ pub mod edits;
 pub mod episode;
 mod error;
 pub mod faults;
+pub mod inputs;
 pub mod scenario;
 pub mod stats;
 

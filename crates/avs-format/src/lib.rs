@@ -66,4 +66,4 @@ pub mod scenario;
 pub mod schema;
 
 pub use diag::{Diagnostic, Diagnostics};
-pub use load::{load_yaml, load_yaml_str, read_kind, FileKind, LoadError};
+pub use load::{load_yaml, load_yaml_str, read_kind, read_text, FileKind, LoadError};

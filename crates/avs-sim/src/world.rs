@@ -153,17 +153,31 @@ impl World {
         path: &Path,
         knowledge: Option<&Knowledge>,
     ) -> Result<Environment, SimError> {
-        let env: Environment = avs_format::load_yaml(path).map_err(|e| SimError::Invalid {
-            field: path.display().to_string(),
+        let file = path.display().to_string();
+        let text = avs_format::read_text(path).map_err(|e| SimError::Invalid {
+            field: file.clone(),
             message: e.to_string(),
         })?;
         let base = path.parent().unwrap_or(Path::new("."));
-        let file = path.display().to_string();
-        let mut diagnostics = crate::check::check_environment(&file, &env, base, knowledge);
+        Self::read_checked_text(&file, &text, base, knowledge)
+    }
+
+    /// [`World::read_checked`] of an environment's `text` named `file` (e.g. one embedded in a
+    /// program), with relative paths (a map image) resolved against `base_dir`.
+    pub fn read_checked_text(
+        file: &str,
+        text: &str,
+        base_dir: &Path,
+        knowledge: Option<&Knowledge>,
+    ) -> Result<Environment, SimError> {
+        let env: Environment =
+            avs_format::load_yaml_str(file, text).map_err(|e| SimError::Invalid {
+                field: file.to_string(),
+                message: e.to_string(),
+            })?;
+        let mut diagnostics = crate::check::check_environment(file, &env, base_dir, knowledge);
         if !diagnostics.is_empty() {
-            if let Ok(text) = std::fs::read_to_string(path) {
-                avs_format::positions::locate(&mut diagnostics, &text);
-            }
+            avs_format::positions::locate(&mut diagnostics, text);
             return Err(SimError::Checks(diagnostics));
         }
         Ok(env)

@@ -14,14 +14,12 @@
 //! target's doors shutting early or late or closed from the start), with one table row per
 //! fault: runs, found, gave up, give-ups naming their cause, wrong reports, the slowest run.
 
-use super::defaults::{shipped, KNOWLEDGE};
-use super::run::DOMAIN;
 use anyhow::Context;
 use avs_agent::AgentConfig;
 use avs_agent::Strategy;
 use avs_eval::bench::{bench, BenchParams};
-use avs_eval::episode::{load_domain, load_knowledge};
 use avs_eval::faults::{fault_matrix, Fault, FaultParams};
+use avs_eval::inputs::{Input, Shipped};
 use avs_format::knowledge::Knowledge;
 use avs_plan::domain::Domain;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -76,10 +74,8 @@ pub struct Args {
 /// Run the subcommand.
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     anyhow::ensure!(a.generate > 0, "--generate 0: expected at least one floor");
-    let kpath = a.knowledge.clone().unwrap_or_else(|| shipped(KNOWLEDGE));
-    let dpath = a.domain.clone().unwrap_or_else(|| shipped(DOMAIN));
-    let knowledge = load_knowledge(&kpath)?;
-    let domain = load_domain(&dpath)?;
+    let knowledge = Input::or_shipped(a.knowledge.as_deref(), Shipped::Knowledge)?.knowledge()?;
+    let domain = Input::or_shipped(a.domain.as_deref(), Shipped::Domain)?.domain()?;
     if a.faults {
         return run_faults(&a, &knowledge, &domain);
     }

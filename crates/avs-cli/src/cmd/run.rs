@@ -2,15 +2,10 @@
 //! cerealbox (knowledge `knowledge/office.yaml`, domain `domains/object_search.yaml`, seed 1),
 //! printing the plan trace as it happens and a summary.
 
-use super::defaults::{shipped, KNOWLEDGE};
 use super::search::{print_summary, run_search, Request};
+use avs_eval::inputs::Shipped;
 use std::path::PathBuf;
 use std::process::ExitCode;
-
-/// The shipped default environment.
-pub const ENVIRONMENT: &str = "domains/environments/office.yaml";
-/// The shipped planning domain.
-pub const DOMAIN: &str = "domains/object_search.yaml";
 
 /// Flags (none required).
 #[derive(clap::Args)]
@@ -25,7 +20,11 @@ pub struct Args {
 
 /// Run the subcommand.
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {
-    let (env, knowledge, domain) = (shipped(ENVIRONMENT), shipped(KNOWLEDGE), shipped(DOMAIN));
+    let (env, knowledge, domain) = (
+        Shipped::Environment.input(),
+        Shipped::Knowledge.input(),
+        Shipped::Domain.input(),
+    );
     let s = run_search(&Request {
         env: &env,
         knowledge: &knowledge,

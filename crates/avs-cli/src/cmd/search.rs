@@ -1,9 +1,13 @@
-//! `avs search --env E --knowledge K --domain D --goal CLASS [--seed N] [--trace-json F]
+//! `avs search [--env E] [--knowledge K] [--domain D] --goal CLASS [--seed N] [--trace-json F]
 //! [--svg F] [--json] [--strategy planner|uninformed|frontier|informed] [--failure-rate P]
 //! [--fp-scale X] [--close-door NAME[@METRES]]... [--start X,Y,YAW_DEG] [--remove CLASS_OR_ID]...
 //! [--before CLASS]... [--give-up paper|cover]`
 //!
 //! Exit status: 0 found, 3 searched and not found, 1 invalid input, 2 usage.
+//!
+//! `--env`, `--knowledge` and `--domain` default to the shipped office, its knowledge and the
+//! object-search domain: the files of the checkout in the current directory when there is one,
+//! else the copies built into the binary (`avs_eval::inputs`).
 //!
 //! One object search by the agent in the simulated environment (an `avs_eval` episode), with the
 //! plan trace printed as it happens and a summary. The agent never sees ground truth; this command reads it only to
@@ -11,9 +15,10 @@
 
 use anyhow::{anyhow, Context};
 use avs_agent::{AgentConfig, Event, Strategy};
-use avs_eval::edits::{load_edited_world, EditField, RemoveObjects, Start, WorldEdits};
-use avs_eval::episode::{load_domain, load_knowledge, run_episode, EpisodeSpec};
+use avs_eval::edits::{EditField, RemoveObjects, Start, WorldEdits};
+use avs_eval::episode::{run_episode, EpisodeSpec};
 pub use avs_eval::episode::{Faults, Summary};
+use avs_eval::inputs::{Input, Shipped};
 use avs_sim::robot::DoorEvent;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -22,15 +27,15 @@ use std::process::ExitCode;
 /// Flags.
 #[derive(clap::Args)]
 pub struct Args {
-    /// The environment file.
+    /// The environment file (default: the shipped office).
     #[arg(long)]
-    pub env: PathBuf,
-    /// The knowledge file.
+    pub env: Option<PathBuf>,
+    /// The knowledge file (default: the shipped office knowledge).
     #[arg(long)]
-    pub knowledge: PathBuf,
-    /// The planning domain file.
+    pub knowledge: Option<PathBuf>,
+    /// The planning domain file (default: the shipped object-search domain).
     #[arg(long)]
-    pub domain: PathBuf,
+    pub domain: Option<PathBuf>,
     /// The object class to find.
     #[arg(long)]
     pub goal: String,
@@ -147,11 +152,11 @@ fn parse_door_event(s: &str) -> Result<DoorEvent, String> {
 /// What to search, and how to report it.
 pub struct Request<'a> {
     /// Environment file.
-    pub env: &'a Path,
+    pub env: &'a Input,
     /// Knowledge file.
-    pub knowledge: &'a Path,
+    pub knowledge: &'a Input,
     /// Planning domain file.
-    pub domain: &'a Path,
+    pub domain: &'a Input,
     /// Object class.
     pub goal: &'a str,
     /// Robot seed.
@@ -189,6 +194,10 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
         quiet,
         ..
     } = *r;
+    // Output paths are checked before the search, not after it.
+    if let Some(p) = r.svg {
+        std::fs::File::create(p).with_context(|| format!("creating {}", p.display()))?;
+    }
     let mut file = match json_file {
         Some(p) => Some(std::io::BufWriter::new(
             std::fs::File::create(p).with_context(|| format!("creating {}", p.display()))?,
@@ -210,9 +219,9 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
             }
         }
     };
-    let (k, d) = (load_knowledge(knowledge)?, load_domain(domain)?);
+    let (k, d) = (knowledge.knowledge()?, domain.domain()?);
     // The environment gets `avs validate --knowledge`'s checks, class names included.
-    let world = load_edited_world(env, Some(&k), &r.edits, |f| match f {
+    let world = env.edited_world(Some(&k), &r.edits, |f| match f {
         EditField::CloseDoor(i) => format!("--close-door #{}", i + 1),
         EditField::RemoveClass(i) | EditField::RemoveId(i) => format!("--remove #{}", i + 1),
     })?;
@@ -220,7 +229,7 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
         anyhow::ensure!(
             k.class(class).is_some(),
             "--before/--goal {class}: not an object class of {}; expected one of {}",
-            knowledge.display(),
+            knowledge.name,
             k.object_classes
                 .iter()
                 .map(|c| c.name.as_str())
@@ -243,7 +252,7 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
         place_classifier: r.place_classifier,
     };
     let out = run_episode(&world, &spec, &mut on_event)
-        .with_context(|| format!("searching {}", env.display()))?;
+        .with_context(|| format!("searching {}", env.name))?;
     if let Some(e) = write_err {
         return Err(anyhow!("writing the trace: {e}"));
     }
@@ -289,8 +298,13 @@ fn search(a: Args) -> anyhow::Result<bool> {
         a.fp_scale
     );
     // An id of the environment is removed as that object, anything else as a class.
+    let inputs = (
+        Input::or_shipped(a.env.as_deref(), Shipped::Environment)?,
+        Input::or_shipped(a.knowledge.as_deref(), Shipped::Knowledge)?,
+        Input::or_shipped(a.domain.as_deref(), Shipped::Domain)?,
+    );
     let env: avs_format::environment::Environment =
-        avs_format::load_yaml(&a.env).with_context(|| format!("reading {}", a.env.display()))?;
+        avs_format::load_yaml_str(&inputs.0.name, &inputs.0.text)?;
     let mut remove = RemoveObjects::default();
     for x in &a.remove {
         if env.objects.iter().any(|o| &o.id == x) {
@@ -307,9 +321,9 @@ fn search(a: Args) -> anyhow::Result<bool> {
         }
     }
     let s = run_search(&Request {
-        env: &a.env,
-        knowledge: &a.knowledge,
-        domain: &a.domain,
+        env: &inputs.0,
+        knowledge: &inputs.1,
+        domain: &inputs.2,
         goal: &a.goal,
         seed: a.seed,
         strategy: a.strategy,
@@ -340,43 +354,106 @@ fn search(a: Args) -> anyhow::Result<bool> {
 
 /// Print the summary as text.
 pub fn print_summary(s: &Summary) {
-    println!();
-    println!("summary");
-    println!("  found:                {}", s.found);
+    print!("{}", summary_text(s));
+}
+
+/// The summary as `print_summary` prints it.
+pub fn summary_text(s: &Summary) -> String {
+    use std::fmt::Write as _;
+    let mut out = String::new();
+    let _ = writeln!(out);
+    let _ = writeln!(out, "summary");
+    // Scored against the truth: a report more than 1 m from every true object is not a find,
+    // whatever the agent's own verdict ("ended") says.
+    if s.wrong_report {
+        let _ = writeln!(
+            out,
+            "  found:                false (WRONG REPORT: no object of the class within 1 m of the reported pose)"
+        );
+    } else {
+        let _ = writeln!(out, "  found:                {}", s.found);
+    }
     if let Some(p) = s.reported_pose {
-        println!(
+        let _ = writeln!(
+            out,
             "  reported pose:        ({:.2}, {:.2}, {:.2})",
             p[0], p[1], p[2]
         );
     }
     if let Some(e) = s.error {
-        println!("  error to true pose:   {e:.2} m");
+        let _ = writeln!(out, "  error to true pose:   {e:.2} m");
     }
-    println!("  path length:          {:.1} m", s.path_length);
+    let _ = writeln!(out, "  path length:          {:.1} m", s.path_length);
     if let Some(l) = s.shortest_path_length {
-        println!("  shortest path:        {l:.1} m");
+        let _ = writeln!(out, "  shortest path:        {l:.1} m");
     }
     let by = &s.path_by_activity;
-    println!(
+    let _ = writeln!(
+            out,
         "    by activity:        exploration {:.1} m, view cones {:.1} m, verification {:.1} m, coverage {:.1} m",
         by.exploration, by.view_cones, by.verification, by.coverage
     );
-    println!(
+    let _ = writeln!(
+        out,
         "  rooms:                {} visited, {} revisits",
         s.rooms_visited, s.room_revisits
     );
     if let Some(d) = s.distance_to_goal {
-        println!("  distance to goal:     {d:.1} m at the end");
+        let _ = writeln!(out, "  distance to goal:     {d:.1} m at the end");
     }
-    println!("  SPL:                  {:.3}", s.spl);
-    println!("  SoftSPL:              {:.3}", s.soft_spl);
-    if s.wrong_report {
-        println!("  WRONG REPORT:         no object of the class within 1 m of the report");
+    let _ = writeln!(out, "  SPL:                  {:.3}", s.spl);
+    let _ = writeln!(out, "  SoftSPL:              {:.3}", s.soft_spl);
+    let _ = writeln!(out, "  plans:                {}", s.plans);
+    let _ = writeln!(out, "  DT sessions:          {}", s.dt_sessions);
+    let _ = writeln!(out, "  plan time (median):   {:.1} ms", s.plan_ms_median);
+    let _ = writeln!(out, "  DT decision (median): {:.1} ms", s.dt_ms_median);
+    let _ = writeln!(out, "  search time:          {:.1} s", s.compute_s);
+    let _ = writeln!(out, "  ended (the agent's):  {}", s.reason);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn summary(found: bool, wrong_report: bool) -> Summary {
+        Summary {
+            found,
+            reported_pose: Some([5.13, 1.73, 0.74]),
+            error: Some(if found { 0.2 } else { 3.0 }),
+            path_length: 12.0,
+            shortest_path_length: Some(6.0),
+            spl: if found { 0.5 } else { 0.0 },
+            wrong_report,
+            distance_to_goal: Some(3.0),
+            soft_spl: 0.25,
+            path_by_activity: Default::default(),
+            rooms_visited: 2,
+            room_revisits: 0,
+            plans: 3,
+            dt_sessions: 1,
+            plan_ms_median: 1.0,
+            dt_ms_median: 0.1,
+            compute_s: 0.1,
+            reason: "found cerealbox object4 at (5.13, 1.73, 0.74)".into(),
+        }
     }
-    println!("  plans:                {}", s.plans);
-    println!("  DT sessions:          {}", s.dt_sessions);
-    println!("  plan time (median):   {:.1} ms", s.plan_ms_median);
-    println!("  DT decision (median): {:.1} ms", s.dt_ms_median);
-    println!("  search time:          {:.1} s", s.compute_s);
-    println!("  ended:                {}", s.reason);
+
+    /// Issue 19: `--fp-scale 10` printed `found: false` and, further down, `ended: found
+    /// cerealbox`, with nothing to reconcile the two.
+    #[test]
+    fn a_wrong_report_reads_as_not_found_next_to_the_agents_own_verdict() {
+        let wrong = summary_text(&summary(false, true));
+        assert!(
+            wrong.contains("found:                false (WRONG REPORT"),
+            "{wrong}"
+        );
+        assert!(
+            wrong.contains("ended (the agent's):  found cerealbox"),
+            "{wrong}"
+        );
+        let right = summary_text(&summary(true, false));
+        assert!(right.contains("found:                true\n"), "{right}");
+        assert!(!right.contains("WRONG"), "{right}");
+    }
 }
