@@ -85,11 +85,13 @@ fn main() -> ExitCode {
         Command::Plan(a) => cmd::plan::run(a),
         Command::Pomdp(c) => cmd::pomdp::run(c),
     };
+    // Usage errors (flags clap cannot parse) exit 2 from `Cli::parse`; everything a command
+    // reports is about its input: exit 1 (README, "Conventions").
     match result {
         Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e:#}");
-            ExitCode::from(2)
+            ExitCode::from(1)
         }
     }
 }

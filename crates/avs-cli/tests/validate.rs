@@ -211,11 +211,12 @@ fn several_files_report_every_problem_and_exit_1() {
 }
 
 #[test]
-fn usage_errors_exit_2() {
+fn usage_errors_exit_2_and_a_missing_file_exits_1() {
     let o = avs(&corpus(), &["validate"]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    // A file that does not exist is invalid input, as the README's conventions say.
     let o = avs(&corpus(), &["validate", "no/such/file.yaml"]);
-    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     let o = avs(&corpus(), &["schema", "planet"]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
 }

@@ -26,6 +26,10 @@ pub enum EvalError {
         /// What is wrong and what is expected.
         message: String,
     },
+    /// An input file could not be read or parsed: its diagnostics name the file (with line and
+    /// column where there is one), so they are the message as they are.
+    #[error(transparent)]
+    Input(#[from] avs_format::LoadError),
     /// The simulated world or robot refused the setup.
     #[error("{0}")]
     Sim(String),

@@ -85,11 +85,7 @@ impl Input {
     /// Read the file at `path` (with the readers' size bound).
     pub fn read(path: &Path) -> Result<Input, EvalError> {
         let name = path.display().to_string();
-        let text = avs_format::read_text(path).map_err(|e| EvalError::Load {
-            what: "input",
-            file: name.clone(),
-            message: e.to_string(),
-        })?;
+        let text = avs_format::read_text(path)?;
         Ok(Input {
             name,
             text,
@@ -107,23 +103,13 @@ impl Input {
 
     /// The input as a knowledge file.
     pub fn knowledge(&self) -> Result<Knowledge, EvalError> {
-        avs_format::load_yaml_str(&self.name, &self.text).map_err(|e| EvalError::Load {
-            what: "knowledge",
-            file: self.name.clone(),
-            message: e.to_string(),
-        })
+        Ok(avs_format::load_yaml_str(&self.name, &self.text)?)
     }
 
-    /// The input as a planning domain; the message lists every problem.
+    /// The input as a planning domain; the error lists every problem.
     pub fn domain(&self) -> Result<Domain, EvalError> {
-        Domain::from_yaml(&self.name, &self.text).map_err(|diags| {
-            let msgs: Vec<String> = diags.iter().map(|d| d.to_string()).collect();
-            EvalError::Load {
-                what: "domain",
-                file: self.name.clone(),
-                message: format!("invalid:\n{}", msgs.join("\n")),
-            }
-        })
+        Domain::from_yaml(&self.name, &self.text)
+            .map_err(|diagnostics| EvalError::Input(avs_format::LoadError { diagnostics }))
     }
 
     /// The input as an environment, checked as `avs validate` checks it (its class names too,

@@ -31,7 +31,7 @@ pub enum MapError {
     },
     /// The map_server descriptor could not be read as YAML: too large, too deeply nested, or
     /// fields of the wrong shape (`FILE:LINE:COLUMN: field: problem; expected …`).
-    #[error("{0}")]
+    #[error(transparent)]
     Descriptor(#[from] avs_format::LoadError),
     /// The image could not be decoded.
     #[error("{path}: cannot decode image: {message}")]

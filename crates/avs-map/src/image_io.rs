@@ -42,7 +42,7 @@ pub enum ImageReadError {
         limit: u64,
     },
     /// The decoder failed (unknown format, corrupt data, or its allocation limit).
-    #[error("{0}")]
+    #[error(transparent)]
     Decode(#[from] image::ImageError),
 }
 

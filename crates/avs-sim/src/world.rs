@@ -21,9 +21,9 @@ pub enum SimError {
         /// What is wrong and what is expected.
         message: String,
     },
-    /// The environment fails the checks of `avs validate` ([`crate::check`]): every problem,
-    /// each naming its file, field (and, when read from a file, line and column) and what is
-    /// expected.
+    /// The environment cannot be read or parsed, or fails the checks of `avs validate`
+    /// ([`crate::check`]): every problem, each naming its file, field (and, when read from a
+    /// file, line and column) and what is expected.
     #[error("{}", .0.iter().map(|d| d.to_string()).collect::<Vec<_>>().join("\n"))]
     Checks(Vec<avs_format::Diagnostic>),
 }
@@ -154,10 +154,7 @@ impl World {
         knowledge: Option<&Knowledge>,
     ) -> Result<Environment, SimError> {
         let file = path.display().to_string();
-        let text = avs_format::read_text(path).map_err(|e| SimError::Invalid {
-            field: file.clone(),
-            message: e.to_string(),
-        })?;
+        let text = avs_format::read_text(path).map_err(|e| SimError::Checks(e.diagnostics))?;
         let base = path.parent().unwrap_or(Path::new("."));
         Self::read_checked_text(&file, &text, base, knowledge)
     }
@@ -171,10 +168,7 @@ impl World {
         knowledge: Option<&Knowledge>,
     ) -> Result<Environment, SimError> {
         let env: Environment =
-            avs_format::load_yaml_str(file, text).map_err(|e| SimError::Invalid {
-                field: file.to_string(),
-                message: e.to_string(),
-            })?;
+            avs_format::load_yaml_str(file, text).map_err(|e| SimError::Checks(e.diagnostics))?;
         let mut diagnostics = crate::check::check_environment(file, &env, base_dir, knowledge);
         if !diagnostics.is_empty() {
             avs_format::positions::locate(&mut diagnostics, text);

@@ -25,8 +25,7 @@ pub struct Args {
 
 /// Run the subcommand.
 pub fn run(a: Args) -> anyhow::Result<ExitCode> {
-    let world =
-        World::load(&a.env).with_context(|| format!("loading environment {}", a.env.display()))?;
+    let world = World::load(&a.env).context("loading the environment")?;
     let svg = match a.explore {
         None => avs_sim::render::render_world(&world),
         Some(steps) => {

@@ -7,8 +7,8 @@
 //! knowledge file is among the arguments (or given with `--knowledge`), environments are also
 //! checked against its room categories and object classes. Folders are searched for `*.yaml`.
 //!
-//! Exit status: 0 when every file is valid, 1 when a problem was found, 2 for usage errors
-//! (including a file that does not exist).
+//! Exit status: 0 when every file is valid, 1 when a problem was found (a file that does not
+//! exist included), 2 for usage errors.
 
 use anyhow::Context;
 use avs_format::knowledge::Knowledge;

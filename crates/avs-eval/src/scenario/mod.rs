@@ -21,19 +21,10 @@ use std::path::Path;
 /// Read a scenario file and check its fields; errors name the file and the field.
 pub fn load_scenario(path: &Path) -> Result<Scenario, EvalError> {
     let file = path.display().to_string();
-    let sc: Scenario = avs_format::load_yaml(path).map_err(|e| EvalError::Load {
-        what: "scenario",
-        file: file.clone(),
-        message: e.to_string(),
-    })?;
+    let sc: Scenario = avs_format::load_yaml(path)?;
     let ds = sc.check_fields(&file);
     if !ds.is_empty() {
-        let msgs: Vec<String> = ds.iter().map(|d| d.to_string()).collect();
-        return Err(EvalError::Load {
-            what: "scenario",
-            file,
-            message: msgs.join("\n"),
-        });
+        return Err(avs_format::LoadError { diagnostics: ds }.into());
     }
     Ok(sc)
 }
