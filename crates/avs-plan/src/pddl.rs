@@ -28,6 +28,8 @@ fn err(file: &str, message: impl Into<String>) -> PlanError {
 
 fn parse_sx(file: &str, text: &str) -> Result<Sx, PlanError> {
     let mut stack: Vec<Vec<Sx>> = vec![Vec::new()];
+    // The line each open list started on, for an unbalanced `(`.
+    let mut opened: Vec<usize> = Vec::new();
     let mut chars = text.char_indices().peekable();
     let mut line = 1;
     while let Some((i, c)) = chars.next() {
@@ -46,8 +48,10 @@ fn parse_sx(file: &str, text: &str) -> Result<Sx, PlanError> {
                     return Err(err(file, format!("line {line}: nesting deeper than 200")));
                 }
                 stack.push(Vec::new());
+                opened.push(line);
             }
             ')' => {
+                opened.pop();
                 let done = stack.pop().unwrap_or_default();
                 match stack.last_mut() {
                     Some(top) => top.push(Sx::List(done)),
@@ -71,8 +75,11 @@ fn parse_sx(file: &str, text: &str) -> Result<Sx, PlanError> {
             }
         }
     }
-    if stack.len() != 1 {
-        return Err(err(file, "unbalanced `(`: the file ends inside a list"));
+    if let Some(open) = opened.last() {
+        return Err(err(
+            file,
+            format!("line {open}: unbalanced `(`: the list opened here is never closed"),
+        ));
     }
     let mut top = stack.pop().unwrap_or_default();
     match top.len() {
@@ -647,6 +654,46 @@ pub fn ground_with(
                     domain_file,
                     format!("problem :init uses unknown object `{a}`"),
                 ));
+            }
+        }
+    }
+    // The goal names only declared predicates (with their arity) and known objects: an unknown
+    // name is a typo, not an unreachable goal ("no plan: the task is unsolvable").
+    for g in &p.goal {
+        let (pred, args) = match g {
+            Literal::Atom { pred, args, .. } => (Some(pred), vec![args.as_slice()]),
+            Literal::Equal { a, b, .. } => {
+                (None, vec![std::slice::from_ref(a), std::slice::from_ref(b)])
+            }
+        };
+        if let Some(pred) = pred {
+            let n = args[0].len();
+            match d.predicates.get(pred) {
+                None => {
+                    return Err(err(
+                        domain_file,
+                        format!("problem :goal uses unknown predicate `{pred}`"),
+                    ))
+                }
+                Some(&arity) if arity != n => {
+                    return Err(err(
+                        domain_file,
+                        format!(
+                            "problem :goal: `{pred}` takes {arity} arguments, the goal gives it {n}"
+                        ),
+                    ))
+                }
+                Some(_) => {}
+            }
+        }
+        for t in args.into_iter().flatten() {
+            if let Term::Object(o) = t {
+                if !obj_index.contains_key(o.as_str()) {
+                    return Err(err(
+                        domain_file,
+                        format!("problem :goal uses unknown object `{o}`"),
+                    ));
+                }
             }
         }
     }
