@@ -65,9 +65,18 @@ impl<'s> Run<'s> {
         }
     }
 
-    /// Record and hand on one trace event.
+    /// Record and hand on one trace event; logged at `info` for the milestones (a plan, a
+    /// violated assumption, a door seen closed or opening, the verdict), at `debug` otherwise.
     pub fn emit(&mut self, e: Event) {
-        tracing::debug!(event = %e.json_line(), "trace");
+        match &e {
+            Event::Started { .. }
+            | Event::PlanMade { .. }
+            | Event::AssumptionViolated { .. }
+            | Event::DoorSeen { .. }
+            | Event::GoalReached { .. }
+            | Event::GaveUp { .. } => tracing::info!("{}", e.text().trim_end()),
+            _ => tracing::debug!(event = %e.json_line(), "trace"),
+        }
         self.sink.event(&e);
         self.events.push(e);
     }

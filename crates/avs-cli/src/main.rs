@@ -66,9 +66,11 @@ fn die_quietly_on_closed_pipe() {
 
 fn main() -> ExitCode {
     die_quietly_on_closed_pipe();
+    // Colours only on a terminal: `RUST_LOG=debug avs … 2> log` writes plain text.
     tracing_subscriber::fmt()
         .with_env_filter(tracing_subscriber::EnvFilter::from_default_env())
         .with_writer(std::io::stderr)
+        .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
         .init();
     let cli = Cli::parse();
     let result = match cli.command {

@@ -155,14 +155,11 @@ fn a_saved_floor_replays_with_avs_search_to_the_same_run() {
     let floor = dir.join("floor-7.yaml");
     assert!(floor.exists(), "no {}", floor.display());
     let goal = run["goal"].as_str().unwrap();
+    // The replay line `avs bench --help` prints: knowledge and domain are the defaults.
     let out = avs(&[
         "search",
         "--env",
         floor.to_str().unwrap(),
-        "--knowledge",
-        "knowledge/office.yaml",
-        "--domain",
-        "domains/object_search.yaml",
         "--goal",
         goal,
         "--seed",
@@ -184,4 +181,27 @@ fn a_saved_floor_replays_with_avs_search_to_the_same_run() {
         );
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 19: with stderr not a terminal (a log file, CI) the bench printed nothing for minutes;
+/// it now says each floor it finished.
+#[test]
+fn a_bench_without_a_terminal_reports_each_floor_on_stderr() {
+    let out = avs(&[
+        "bench",
+        "--generate",
+        "2",
+        "--seed",
+        "7",
+        "--rooms",
+        "2",
+        "--strategy",
+        "frontier",
+    ]);
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("frontier 1/2 floors") && err.contains("frontier 2/2 floors"),
+        "{err}"
+    );
 }

@@ -289,3 +289,22 @@ fn an_unwritable_svg_path_is_refused_before_the_search_starts() {
     let trace = String::from_utf8_lossy(&out.stdout);
     assert!(!trace.contains("plan 1"), "the search ran first:\n{trace}");
 }
+
+/// Issue 19: `RUST_LOG=info` printed nothing and `RUST_LOG=debug` wrote colour escapes into
+/// files; the milestones now log at `info`, as plain text when stderr is not a terminal.
+#[test]
+fn info_logging_shows_the_milestones_in_plain_text() {
+    let out = Command::new(env!("CARGO_BIN_EXE_avs"))
+        .args(["run"])
+        .env("RUST_LOG", "info")
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .output()
+        .expect("the avs binary runs");
+    let log = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        log.contains("INFO") && log.contains("plan 1 (initial plan"),
+        "{log}"
+    );
+    assert!(log.contains("goal reached"), "{log}");
+    assert!(!log.contains('\u{1b}'), "colour escapes in a file: {log}");
+}

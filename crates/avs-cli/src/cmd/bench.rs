@@ -23,6 +23,7 @@ use avs_eval::inputs::{Input, Shipped};
 use avs_format::knowledge::Knowledge;
 use avs_plan::domain::Domain;
 use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -82,9 +83,12 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     if let Some(dir) = &a.save_floors {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
-    let bar = progress(a.generate as u64, "floors")?;
-    bar.set_prefix(format!("{:?}", a.strategy).to_lowercase());
-    let tick = || bar.inc(1);
+    let bar = Progress::new(
+        a.generate as u64,
+        "floors",
+        format!("{:?}", a.strategy).to_lowercase(),
+    )?;
+    let tick = || bar.inc();
     let params = BenchParams {
         floors: a.generate,
         seed: a.seed,
@@ -96,7 +100,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         place_classifier: a.place_classifier,
     };
     let r = bench(&knowledge, &domain, &params, &tick)?;
-    bar.finish_and_clear();
+    bar.finish();
     if a.json {
         println!("{}", serde_json::to_string_pretty(&r)?);
     } else {
@@ -133,25 +137,57 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// A progress bar over `len` items named `what`.
-fn progress(len: u64, what: &str) -> anyhow::Result<ProgressBar> {
-    let bar = ProgressBar::new(len);
-    bar.set_style(
-        ProgressStyle::with_template(&format!(
-            "{{prefix}} [{{bar:30}}] {{pos}}/{{len}} {what}, {{elapsed}}, eta {{eta}}"
-        ))
-        .context("progress bar template")?
-        .progress_chars("=> "),
-    );
-    Ok(bar)
+/// Progress over `len` items named `what`: a bar on a terminal; elsewhere (a log file, CI) a
+/// line per item on stderr, so a long bench is never silent.
+struct Progress {
+    bar: ProgressBar,
+    terminal: bool,
+    what: &'static str,
+}
+
+impl Progress {
+    fn new(len: u64, what: &'static str, prefix: String) -> anyhow::Result<Self> {
+        let bar = ProgressBar::new(len);
+        bar.set_style(
+            ProgressStyle::with_template(&format!(
+                "{{prefix}} [{{bar:30}}] {{pos}}/{{len}} {what}, {{elapsed}}, eta {{eta}}"
+            ))
+            .context("progress bar template")?
+            .progress_chars("=> "),
+        );
+        bar.set_prefix(prefix);
+        Ok(Self {
+            bar,
+            terminal: std::io::stderr().is_terminal(),
+            what,
+        })
+    }
+
+    /// One more item done.
+    fn inc(&self) {
+        self.bar.inc(1);
+        if !self.terminal {
+            eprintln!(
+                "{} {}/{} {} ({:.0} s)",
+                self.bar.prefix(),
+                self.bar.position(),
+                self.bar.length().unwrap_or(0),
+                self.what,
+                self.bar.elapsed().as_secs_f64()
+            );
+        }
+    }
+
+    fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
 }
 
 /// `--faults`: the fault matrix on the floors.
 fn run_faults(a: &Args, knowledge: &Knowledge, domain: &Domain) -> anyhow::Result<ExitCode> {
     let faults = Fault::matrix();
-    let bar = progress((a.generate * faults.len()) as u64, "runs")?;
-    bar.set_prefix("faults");
-    let tick = || bar.inc(1);
+    let bar = Progress::new((a.generate * faults.len()) as u64, "runs", "faults".into())?;
+    let tick = || bar.inc();
     let params = FaultParams {
         floors: a.generate,
         seed: a.seed,
@@ -160,7 +196,7 @@ fn run_faults(a: &Args, knowledge: &Knowledge, domain: &Domain) -> anyhow::Resul
         config: AgentConfig::default(),
     };
     let m = fault_matrix(knowledge, domain, &params, &tick)?;
-    bar.finish_and_clear();
+    bar.finish();
     if a.json {
         println!("{}", serde_json::to_string_pretty(&m)?);
         return Ok(ExitCode::SUCCESS);
