@@ -281,3 +281,28 @@ fn domain_schema_requires_the_parts_of_a_domain_and_the_kind_domain() {
     }
     assert_eq!(s["properties"]["kind"]["enum"][0], "domain");
 }
+
+/// Issue 19: without a knowledge file, an environment's classes and categories went unchecked
+/// in silence; validate now says so, and says nothing when it can check them.
+#[test]
+fn validate_says_when_it_skips_class_checks_for_want_of_knowledge() {
+    let root = workspace();
+    let alone = avs(&root, &["validate", "domains/environments/office.yaml"]);
+    assert_eq!(alone.status.code(), Some(0), "{}", text(&alone));
+    let err = String::from_utf8_lossy(&alone.stderr);
+    assert!(
+        err.contains("not checked") && err.contains("--knowledge"),
+        "{err}"
+    );
+    let with = avs(
+        &root,
+        &[
+            "validate",
+            "domains/environments/office.yaml",
+            "--knowledge",
+            "knowledge/office.yaml",
+        ],
+    );
+    assert_eq!(with.status.code(), Some(0), "{}", text(&with));
+    assert!(!String::from_utf8_lossy(&with.stderr).contains("not checked"));
+}

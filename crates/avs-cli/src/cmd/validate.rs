@@ -145,7 +145,15 @@ fn knowledge_for_cross_checks(
     let has_env = inputs.iter().any(|i| i.kind == FileKind::Environment);
     match ks.as_slice() {
         [one] => Ok(avs_format::load_yaml_str::<Knowledge>(&one.name, &one.text).ok()),
-        [] => Ok(None),
+        [] => {
+            if has_env {
+                eprintln!(
+                    "note: no knowledge file given; environments' room categories and object \
+                     classes are not checked (add --knowledge FILE, e.g. knowledge/office.yaml)"
+                );
+            }
+            Ok(None)
+        }
         _ => {
             if has_env {
                 eprintln!(
