@@ -7,6 +7,9 @@
 //! written as the same words in text and JSON; a camera action carries its view ([`View`]) as
 //! numbers, so tools need not read them back out of the listing line.
 
+use schemars::gen::SchemaGenerator;
+use schemars::schema::Schema;
+use schemars::JsonSchema;
 use serde::{Serialize, Serializer};
 use std::fmt;
 
@@ -44,6 +47,17 @@ impl Serialize for Outcome {
     }
 }
 
+/// In JSON an outcome is its text: `ok`, `detected and confirmed`, or the failure.
+impl JsonSchema for Outcome {
+    fn schema_name() -> String {
+        "Outcome".into()
+    }
+
+    fn json_schema(gen: &mut SchemaGenerator) -> Schema {
+        String::json_schema(gen)
+    }
+}
+
 /// How a view-cone POMDP session ended.
 #[derive(Debug, Clone, PartialEq)]
 pub enum SessionOutcome {
@@ -74,9 +88,20 @@ impl Serialize for SessionOutcome {
     }
 }
 
+/// In JSON a session outcome is its text: `found`, `false alarm`, `absent` or `failed: …`.
+impl JsonSchema for SessionOutcome {
+    fn schema_name() -> String {
+        "SessionOutcome".into()
+    }
+
+    fn json_schema(gen: &mut SchemaGenerator) -> Schema {
+        String::json_schema(gen)
+    }
+}
+
 /// A camera view: where the robot stood and how the camera pointed (radians, as the
 /// `Robot` trait takes them).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, JsonSchema)]
 pub struct View {
     /// x of the robot, metres.
     pub x: f64,
@@ -91,7 +116,7 @@ pub struct View {
 }
 
 /// One event of the plan trace.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
 #[serde(tag = "event", rename_all = "snake_case")]
 pub enum Event {
     /// The search for a goal started.
@@ -310,6 +335,13 @@ pub fn render_json_lines(events: &[Event]) -> String {
             s
         })
         .collect()
+}
+
+/// The JSON Schema of one line of a JSON-lines trace (one [`Event`]; `avs schema trace`).
+pub fn schema_json() -> String {
+    let schema = schemars::schema_for!(Event);
+    // Serialising a schema (plain maps, strings and numbers) cannot fail.
+    serde_json::to_string_pretty(&schema).unwrap_or_default()
 }
 
 #[cfg(test)]

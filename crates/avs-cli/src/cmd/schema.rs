@@ -1,4 +1,5 @@
-//! `avs schema KIND` — print the JSON Schema of an avs file kind, for editors.
+//! `avs schema KIND` — print the JSON Schema of an avs file kind (for editors), or of one line
+//! of a JSON-lines plan trace (`avs schema trace`).
 
 use avs_format::FileKind;
 use std::process::ExitCode;
@@ -14,6 +15,8 @@ pub enum Kind {
     Domain,
     /// A scenario.
     Scenario,
+    /// One line of a JSON-lines plan trace (`--trace-json`): one event.
+    Trace,
 }
 
 /// Flags.
@@ -34,6 +37,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::SUCCESS);
         }
         Kind::Scenario => FileKind::Scenario,
+        Kind::Trace => {
+            println!("{}", avs_agent::trace::schema_json());
+            return Ok(ExitCode::SUCCESS);
+        }
     };
     match avs_format::schema::schema_json(kind) {
         Some(s) => {
