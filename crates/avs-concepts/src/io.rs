@@ -98,10 +98,21 @@ pub fn parse_uai(text: &str, what: &str) -> Result<FactorGraph, GraphError> {
     }
     let n = t.usize("the number of variables")?;
     let mut cards = Vec::with_capacity(n.min(1 << 20));
+    // Inference keeps a belief of every variable's cardinality, used by a factor or not: the
+    // beliefs together are bounded like one table (fuzzing found a variable of cardinality
+    // 10^11 in no factor, whose uniform belief aborted the allocation).
+    let mut beliefs = 0usize;
     for i in 0..n {
         let c = t.usize(&format!("the cardinality of variable {i}"))?;
         if c == 0 {
             return Err(t.err(format!("variable {i} has cardinality 0")));
+        }
+        beliefs = beliefs.saturating_add(c);
+        if beliefs > MAX_TABLE_ENTRIES {
+            return Err(t.err(format!(
+                "the cardinalities of variables 0..={i} sum to more than {MAX_TABLE_ENTRIES}; \
+                 expected at most {MAX_TABLE_ENTRIES} values over all variables"
+            )));
         }
         cards.push(c);
     }
@@ -275,4 +286,28 @@ pub fn parse_mar(text: &str, what: &str) -> Result<Vec<Vec<f64>>, GraphError> {
         out.push(m);
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Found by fuzzing (issue 18, `fuzz/README.md`): one variable of cardinality 10^11 in no
+    /// factor parsed, and inference then aborted allocating its uniform belief.
+    #[test]
+    fn cardinalities_beyond_the_table_bound_are_refused_even_in_no_factor() {
+        let e = parse_uai("MARKOV\n1\n100000000000\n0\n", "huge.uai")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("huge.uai") && e.contains("sum to more than"),
+            "{e}"
+        );
+        // Many variables whose cardinalities add up past the bound, too.
+        let many = format!("MARKOV\n3\n{0} {0} {0}\n0\n", MAX_TABLE_ENTRIES / 2);
+        assert!(parse_uai(&many, "many.uai").is_err());
+        // At the bound, a model still reads.
+        let fits = format!("MARKOV\n2\n{} 1\n0\n", MAX_TABLE_ENTRIES - 1);
+        assert!(parse_uai(&fits, "fits.uai").is_ok());
+    }
 }
