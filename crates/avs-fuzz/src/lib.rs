@@ -41,6 +41,7 @@
 //! - `avs-format`, `avs-sim`, `avs-map`, `avs-plan`, `avs-pomdp`, `avs-concepts`: the readers
 //!   under test (and avs-sim's world and simulated robot for [`search`]).
 //! - `avs-agent`: the agent whose search [`search`] starts.
+//! - `avs-eval`: the shipped knowledge and domain ([`Shipped`]) that [`search`] uses.
 //! - `tempfile` (already in the tree through proptest): the private folder for readers that
 //!   only take a path, removed when the thread ends.
 //!
@@ -49,6 +50,7 @@
 
 use avs_agent::{Agent, AgentConfig, Goal};
 use avs_concepts::bp::{run_bp, BpOptions};
+use avs_eval::inputs::Shipped;
 use avs_concepts::exact::exact_marginals;
 use avs_concepts::factor::FactorGraph;
 use avs_format::environment::{Environment, ObjectRole};
@@ -83,10 +85,10 @@ pub const MAX_INFER_ENTRIES: usize = 4096;
 
 /// The office knowledge shipped with avs: the class names [`search`]'s environments are
 /// checked against and the agent's priors.
-const OFFICE_KNOWLEDGE: &str = include_str!("../../../knowledge/office.yaml");
+const OFFICE_KNOWLEDGE: &str = Shipped::Knowledge.text();
 
 /// The object-search planning domain shipped with avs, the agent's domain in [`search`].
-const OBJECT_SEARCH_DOMAIN: &str = include_str!("../../../domains/object_search.yaml");
+const OBJECT_SEARCH_DOMAIN: &str = Shipped::Domain.text();
 
 /// What a target made of one input.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
