@@ -50,9 +50,9 @@
 
 use avs_agent::{Agent, AgentConfig, Goal};
 use avs_concepts::bp::{run_bp, BpOptions};
-use avs_eval::inputs::Shipped;
 use avs_concepts::exact::exact_marginals;
 use avs_concepts::factor::FactorGraph;
+use avs_eval::inputs::Shipped;
 use avs_format::environment::{Environment, ObjectRole};
 use avs_format::knowledge::Knowledge;
 use avs_map::grid::OccupancyGrid;
