@@ -9,7 +9,7 @@ use std::process::Command;
 fn features(args: &[&str]) -> BTreeMap<String, BTreeSet<String>> {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
     let out = Command::new(env!("CARGO"))
-        .args(["tree", "--offline", "--prefix", "none", "-f", "{p}|{f}"])
+        .args(["tree", "--locked", "--prefix", "none", "-f", "{p}|{f}"])
         .args(args)
         .current_dir(root)
         .output()
