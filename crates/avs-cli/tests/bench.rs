@@ -1,14 +1,7 @@
 //! `avs bench`: the JSON keys scripts rely on, determinism, and errors for bad flags.
 
-use std::process::Command;
-
-fn avs(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_avs"))
-        .args(args)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .expect("the avs binary runs")
-}
+mod common;
+use common::avs;
 
 fn bench_json(args: &[&str]) -> serde_json::Value {
     let out = avs(args);

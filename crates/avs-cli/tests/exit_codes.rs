@@ -3,15 +3,8 @@
 //! file, an unknown name), 0 for success; `search` exits 3 when it searched and did not find,
 //! `scenario` when a property fails. Each error names the file once.
 
-use std::process::{Command, Output};
-
-fn avs(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_avs"))
-        .args(args)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .expect("the avs binary runs")
-}
+mod common;
+use common::avs;
 
 const MISSING: &str = "no/such/input.file";
 

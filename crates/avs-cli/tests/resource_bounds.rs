@@ -1,21 +1,16 @@
 //! Issue 18's resource reproducers end to end: each input is generated here (no large file is
 //! committed) and the command now ends with a clean error or a bounded answer.
 
+mod common;
+use common::avs_in as avs;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("avs-bounds-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir
-}
-
-fn avs(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_avs"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run avs")
 }
 
 fn text(o: &Output) -> (String, String) {

@@ -2,19 +2,13 @@
 //! contract `{"scenarios": [{"file", "properties": [{"name", "pass", "detail"}]}]}`, and the
 //! exit status (0 all hold, 3 one fails, 1 a file that cannot be run).
 
+mod common;
+use common::avs_in;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn avs_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_avs"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the avs binary runs")
 }
 
 fn temp_dir(name: &str) -> PathBuf {

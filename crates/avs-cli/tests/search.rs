@@ -1,14 +1,9 @@
 //! `avs search`: the SVG picture of a run and the fault-injection flags.
 
-use std::process::Command;
+mod common;
+use common::avs;
 
-fn avs(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_avs"))
-        .args(args)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .expect("the avs binary runs")
-}
+use std::process::Command;
 
 const OFFICE: [&str; 8] = [
     "search",
@@ -255,13 +250,7 @@ fn the_defaults_are_built_in_so_run_and_search_work_from_any_directory() {
         "{} holds a checkout's files; the test needs a directory without them",
         away.display()
     );
-    let in_dir = |args: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_avs"))
-            .args(args)
-            .current_dir(&away)
-            .output()
-            .expect("the avs binary runs")
-    };
+    let in_dir = |args: &[&str]| common::avs_in(&away, args);
     let run = in_dir(&["run"]);
     let out = String::from_utf8_lossy(&run.stdout);
     assert!(

@@ -2,15 +2,8 @@
 //! independent validator (the `jsonschema` crate) against every event of `avs run` and of a
 //! search that gives up behind a closed door (door sightings, the give-up).
 
-use std::process::Command;
-
-fn avs(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_avs"))
-        .args(args)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .expect("the avs binary runs")
-}
+mod common;
+use common::avs;
 
 #[test]
 fn every_event_of_a_json_trace_validates_against_avs_schema_trace() {

@@ -2,8 +2,11 @@
 //! file rejected with its expected message and exit status, every good file accepted) and the
 //! shipped domains and knowledge files accepted.
 
+mod common;
+use common::avs_in as avs;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -11,14 +14,6 @@ fn workspace() -> PathBuf {
 
 fn corpus() -> PathBuf {
     workspace().join("tests/validate")
-}
-
-fn avs(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_avs"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run avs")
 }
 
 fn text(o: &Output) -> String {
