@@ -44,6 +44,25 @@ fn sees(view: &avs_view::PlannedView, cam: &CameraModel, r: DetectionRange, p: [
         && (dz.atan2(horiz) - view.tilt).abs() <= cam.vfov / 2.0 + 1e-9
 }
 
+/// [`sees`] at the view's zoom: fields of view divided by it, distance interval multiplied by it.
+fn sees_zoomed(
+    view: &avs_view::PlannedView,
+    cam: &CameraModel,
+    r: DetectionRange,
+    p: [f64; 3],
+) -> bool {
+    let at_zoom = CameraModel {
+        hfov: cam.hfov / view.zoom,
+        vfov: cam.vfov / view.zoom,
+        ..*cam
+    };
+    let r = DetectionRange {
+        min: r.min * view.zoom,
+        max: r.max * view.zoom,
+    };
+    sees(view, &at_zoom, r, p)
+}
+
 #[test]
 fn greedy_cover_covers_the_whole_room_and_every_claimed_point_is_visible() {
     let pts = room_points();
@@ -230,18 +249,9 @@ fn zoomed_views_cover_the_floor_where_no_unzoomed_view_reaches_a_small_object() 
     for v in &zoomed.views {
         assert!([1.0, 2.0, 4.0].contains(&v.zoom), "zoom {}", v.zoom);
         // At zoom z the fields of view shrink by z and the distance interval grows by z.
-        let at_zoom = CameraModel {
-            hfov: cam.hfov / v.zoom,
-            vfov: cam.vfov / v.zoom,
-            ..cam
-        };
-        let r = DetectionRange {
-            min: range.min * v.zoom,
-            max: range.max * v.zoom,
-        };
         for &k in &v.covered {
             assert!(
-                sees(v, &at_zoom, r, pts[k]),
+                sees_zoomed(v, &cam, range, pts[k]),
                 "point {k} not visible from {v:?}"
             );
             // Zoomed views are planned only for what no unzoomed view can cover.
@@ -315,18 +325,9 @@ fn a_needle_thin_field_of_view_plans_on_a_capped_angle_grid_and_reports_the_gaps
     )
     .unwrap();
     for v in &plan.views {
-        let at_zoom = CameraModel {
-            hfov: cam.hfov / v.zoom,
-            vfov: cam.vfov / v.zoom,
-            ..cam
-        };
-        let r = DetectionRange {
-            min: range.min * v.zoom,
-            max: range.max * v.zoom,
-        };
         for &k in &v.covered {
             assert!(
-                sees(v, &at_zoom, r, pts[k]),
+                sees_zoomed(v, &cam, range, pts[k]),
                 "point {k} is not visible from {v:?}"
             );
         }
