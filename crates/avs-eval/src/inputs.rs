@@ -58,8 +58,8 @@ impl Shipped {
     /// edits there take effect), else the embedded text.
     pub fn input(self) -> Input {
         let here = Path::new(self.path());
-        match Input::read(here) {
-            Ok(input) if here.is_file() => input,
+        match here.is_file().then(|| Input::read(here)) {
+            Some(Ok(input)) => input,
             _ => Input {
                 name: format!("{} (built in)", self.path()),
                 text: self.text().to_string(),
