@@ -1,5 +1,5 @@
-//! Checks of an environment that need no map: names and references, numbers and ranges, and
-//! agreement with a knowledge file.
+//! Checks of an environment that need no image: names and references, numbers and ranges,
+//! agreement with a knowledge file, and — for inline ASCII maps — the doors against the walls.
 //!
 //! What is checked:
 //! - every number is finite (YAML allows `.nan` and `.inf`);
@@ -11,11 +11,22 @@
 //!   an object is not `on` and `in` at once, not on/in itself, not in a cycle, and the
 //!   supporting object is a landmark in the same room whose (yawed) footprint, plus 5 cm, holds
 //!   the object's position;
+//! - heights: an object `on` a landmark stands on its top — its `pose.z` is the landmark's
+//!   `pose.z + size[2]` within [`HEIGHT_SLACK`]; an object `in` a landmark has its `pose.z`
+//!   between the landmark's `pose.z` and its top (within the same slack);
+//! - the robot fits through the doors: a door narrower than the robot's diameter
+//!   (2 × `robot.radius`) is an error naming the door, and when every door is narrower the one
+//!   error is the robot's radius (a robot wider than every door cannot leave its room);
+//! - an ASCII map is a rectangle: every row as long as the first (the simulator would pad short
+//!   rows with unknown cells, which hides a stripped trailing space or a lost character);
+//! - for an ASCII map, each door sits across a gap of the walls: the line along its `yaw_deg`
+//!   is free for half a metre each side of its centre, and the gap across it is at least its
+//!   width less one cell ([`crate::check_doors`]);
 //! - with a knowledge file: room categories and object classes are ones it names, and objects
 //!   with role `landmark` have a landmark class.
 //!
-//! The geometric checks (map loads, things inside the map and not inside walls) need the grid
-//! and live in `avs-sim` (`avs_sim::check`).
+//! The other geometric checks (the map loads, things inside the map and not inside walls, rooms
+//! on both sides of doors) need the decoded grid and live in `avs-sim` (`avs_sim::check`).
 
 use crate::diag::Diagnostic;
 use crate::environment::{Environment, MapSource, ObjectRole, Point, Pose};
@@ -156,6 +167,32 @@ pub const MAX_LASER_RANGE_M: f64 = 1000.0;
 /// Slack around a landmark's footprint for objects standing on or lying in it, metres.
 const FOOTPRINT_SLACK: f64 = 0.05;
 
+/// How far an object's `pose.z` may be from the top of the landmark it stands `on` (or outside
+/// the heights of one it lies `in`), metres.
+pub const HEIGHT_SLACK: f64 = 0.05;
+
+/// The first row of an ASCII map whose length differs from the first row's: its 1-based number,
+/// its length and the first row's length (in characters, as the simulator counts cells), and how
+/// many rows differ in all.
+fn ragged_row(ascii: &str) -> Option<(usize, usize, usize, usize)> {
+    let mut lens = ascii.lines().map(|l| l.chars().count());
+    let first = lens.next()?;
+    let mut found = None;
+    let mut differ = 0;
+    for (i, n) in lens.enumerate() {
+        if n != first {
+            differ += 1;
+            found.get_or_insert((i + 2, n));
+        }
+    }
+    found.map(|(row, n)| (row, n, first, differ))
+}
+
+/// `v` rounded to millimetres, for messages.
+fn mm(v: f64) -> f64 {
+    (v * 1000.0).round() / 1000.0
+}
+
 /// Whether a point lies over a landmark's (yawed) footprint, with [`FOOTPRINT_SLACK`]. Points or
 /// landmarks with non-finite numbers pass (they are reported elsewhere).
 fn over_footprint(p: &Pose, base: &crate::environment::Object) -> bool {
@@ -189,6 +226,7 @@ pub fn check_environment(
     }
 
     // Map.
+    let before_map = r.out.len();
     match &env.map {
         MapSource::Ros(m) => {
             if m.image.trim().is_empty() {
@@ -230,12 +268,27 @@ pub fn check_environment(
                     "rows of `#` (occupied), `.` (free), `?` (unknown)",
                 );
             }
+            if let Some((row, n, first, differ)) = ragged_row(&m.ascii) {
+                let others = if differ > 1 {
+                    format!(" ({} more rows differ)", differ - 1)
+                } else {
+                    String::new()
+                };
+                r.push(
+                    "map.ascii".into(),
+                    format!(
+                        "row {row} of the map (line {row} of `ascii`) is {n} cells long but row 1 is {first}{others}"
+                    ),
+                    "rows of equal length: pad with `?` (unknown) or `#`; an editor may have stripped trailing spaces",
+                );
+            }
             r.positive("map.resolution".into(), m.resolution, "metres per cell");
             for (i, v) in m.origin.iter().enumerate() {
                 r.finite(format!("map.origin[{i}]"), *v);
             }
         }
     }
+    let map_sound = r.out.len() == before_map;
 
     // Names for "one of …" hints and knowledge look-ups, built once (files can be large).
     let categories: HashSet<&str> = knowledge
@@ -341,6 +394,8 @@ pub fn check_environment(
             .map(|(i, x)| (format!("objects[{i}].id"), x.id.as_str())),
         "object id",
     );
+    // (object, landmark it rests on, "on" / "in"): heights are checked once cycles are known.
+    let mut heights: Vec<(usize, usize, &str)> = Vec::new();
     for (i, o) in env.objects.iter().enumerate() {
         let at = format!("objects[{i}]");
         r.pose(&format!("{at}.pose"), &o.pose);
@@ -404,6 +459,9 @@ pub fn check_environment(
                             "the id of a landmark (role: landmark) to stand on or lie in",
                         );
                     }
+                    if base.role == ObjectRole::Landmark {
+                        heights.push((i, j, field));
+                    }
                     if base.room != o.room && rooms.contains_key(o.room.as_str()) {
                         r.push(
                             path.clone(),
@@ -465,6 +523,18 @@ pub fn check_environment(
         }
     }
     in_cycle.sort_unstable();
+    // Heights along a cycle cannot all agree; the cycle is the error.
+    for (i, j, field) in heights {
+        if in_cycle.binary_search(&i).is_err() {
+            height_on_landmark(
+                &mut r,
+                &format!("objects[{i}]"),
+                &env.objects[i],
+                &env.objects[j],
+                field,
+            );
+        }
+    }
     for i in in_cycle {
         let o = &env.objects[i];
         r.push(
@@ -478,6 +548,7 @@ pub fn check_environment(
     r.pose("robot.start", &env.robot.start);
     r.positive("robot.radius".into(), env.robot.radius, "metres");
     r.positive("robot.speed".into(), env.robot.speed, "metres per second");
+    robot_through_doors(&mut r, env);
     r.positive("laser.range".into(), env.laser.range, "metres");
     if env.laser.range > MAX_LASER_RANGE_M {
         r.push(
@@ -533,13 +604,121 @@ pub fn check_environment(
             "a height above the floor in metres (≥ 0)",
         );
     }
+
+    // Doors against the walls, for maps given inline (an image map is decoded by avs-sim).
+    if let (true, MapSource::Ascii(m)) = (map_sound, &env.map) {
+        if let Some(walls) = crate::check_doors::AsciiWalls::parse(&m.ascii, m.resolution, m.origin)
+        {
+            r.out
+                .extend(crate::check_doors::check_door_openings(file, env, &walls));
+        }
+    }
     r.out
+}
+
+/// The height of object `o` (at path `at`) against the landmark `base` it is `on` or `in`
+/// (`field`). Non-finite or non-positive numbers are reported elsewhere and skip the check.
+fn height_on_landmark(
+    r: &mut Report,
+    at: &str,
+    o: &crate::environment::Object,
+    base: &crate::environment::Object,
+    field: &str,
+) {
+    let (z, floor, h) = (o.pose.z, base.pose.z, base.size[2]);
+    if !(z.is_finite() && floor.is_finite() && h.is_finite() && h > 0.0) {
+        return;
+    }
+    let top = floor + h;
+    let id = &base.id;
+    if field == "on" && (z - top).abs() > HEIGHT_SLACK {
+        r.push(
+            format!("{at}.pose.z"),
+            format!(
+                "z = {z} but `{id}`, which the object stands on, has its top at {} m",
+                mm(top)
+            ),
+            format!(
+                "z = {} (the landmark's pose.z {floor} plus its height size[2] {h}; within {HEIGHT_SLACK} m): an object's z is the height of its base",
+                mm(top)
+            ),
+        );
+    } else if field == "in" && !(floor - HEIGHT_SLACK..=top + HEIGHT_SLACK).contains(&z) {
+        r.push(
+            format!("{at}.pose.z"),
+            format!(
+                "z = {z} but `{id}`, which the object lies in, spans heights {floor} to {} m",
+                mm(top)
+            ),
+            format!(
+                "a z between {floor} and {} (inside `{id}`): an object's z is the height of its base",
+                mm(top)
+            ),
+        );
+    }
+}
+
+/// A door narrower than the robot's diameter is an error at the door; when every door is, the one
+/// error is at `robot.radius`. Non-finite or non-positive numbers are reported elsewhere.
+fn robot_through_doors(r: &mut Report, env: &Environment) {
+    let radius = env.robot.radius;
+    if !(radius.is_finite() && radius > 0.0) || env.doors.is_empty() {
+        return;
+    }
+    let across = 2.0 * radius;
+    let valid = |w: f64| w.is_finite() && w > 0.0;
+    // Tolerance for widths written to the millimetre.
+    let narrow = |w: f64| valid(w) && w + 1e-9 < across;
+    let narrow_doors: Vec<usize> = (0..env.doors.len())
+        .filter(|&i| narrow(env.doors[i].width))
+        .collect();
+    if narrow_doors.is_empty() {
+        return;
+    }
+    if narrow_doors.len() == env.doors.len() {
+        let widest = env
+            .doors
+            .iter()
+            .max_by(|a, b| a.width.total_cmp(&b.width))
+            .map(|d| (d.name.as_str(), d.width))
+            .unwrap_or_default();
+        r.push(
+            "robot.radius".into(),
+            format!(
+                "the robot is {} m across (radius {radius}) but the widest door, `{}`, is {} m wide: it cannot leave its room",
+                mm(across),
+                widest.0,
+                widest.1
+            ),
+            format!(
+                "a radius of at most {} m (half the widest door), or wider doors",
+                mm(widest.1 / 2.0)
+            ),
+        );
+        return;
+    }
+    for i in narrow_doors {
+        let d = &env.doors[i];
+        r.push(
+            format!("doors[{i}].width"),
+            format!(
+                "door `{}` is {} m wide, narrower than the robot ({} m across: robot.radius {radius})",
+                d.name,
+                d.width,
+                mm(across)
+            ),
+            format!(
+                "a width of at least {} m (the robot's diameter), or a smaller robot.radius",
+                mm(across)
+            ),
+        );
+    }
 }
 
 /// Parse an environment's text, reporting a map that fits neither form with the error of the
 /// form it was meant to be (an `image:` map is read as a ROS map, otherwise as an ASCII map).
 pub fn load_environment(file: &str, text: &str) -> Result<Environment, crate::LoadError> {
-    let err = match crate::load_yaml_str::<Environment>(file, text) {
+    let err = match crate::load::load_yaml_str_explained::<Environment>(file, text) {
         Ok(env) => return Ok(env),
         Err(e) => e,
     };
@@ -556,9 +735,10 @@ pub fn load_environment(file: &str, text: &str) -> Result<Environment, crate::Lo
             let sub = serde_yaml::to_string(&m.map).unwrap_or_default();
             let is_ros = m.map.get("image").is_some();
             let inner = if is_ros {
-                crate::load_yaml_str::<crate::environment::RosMap>(file, &sub).err()
+                crate::load::load_yaml_str_explained::<crate::environment::RosMap>(file, &sub).err()
             } else {
-                crate::load_yaml_str::<crate::environment::AsciiMap>(file, &sub).err()
+                crate::load::load_yaml_str_explained::<crate::environment::AsciiMap>(file, &sub)
+                    .err()
             };
             if let Some(inner) = inner {
                 let mut ds: Vec<Diagnostic> = inner
@@ -614,17 +794,23 @@ mod tests {
 
     #[test]
     fn support_cycles_are_found_and_long_chains_are_not_cycles() {
-        let obj = |id: &str, on: &str| {
-            format!("  - {{id: {id}, class: table, role: landmark, pose: {{x: 1, y: 1}}, size: [1, 1, 1], room: a, on: {on}}}\n")
+        // Each object stands on the top of the one below (z = its base z + its height 1).
+        let obj = |id: &str, on: &str, z: usize| {
+            format!("  - {{id: {id}, class: table, role: landmark, pose: {{x: 1, y: 1, z: {z}}}, size: [1, 1, 1], room: a, on: {on}}}\n")
         };
         let rooms = "rooms: [{name: a, category: office, seed: {x: 1.5, y: 1.5}}]\nobjects:\n";
         let mut chain = String::from(rooms);
         chain.push_str("  - {id: o0, class: table, role: landmark, pose: {x: 1, y: 1}, size: [1, 1, 1], room: a}\n");
         for i in 1..2000 {
-            chain.push_str(&obj(&format!("o{i}"), &format!("o{}", i - 1)));
+            chain.push_str(&obj(&format!("o{i}"), &format!("o{}", i - 1), i));
         }
         assert_eq!(check_environment("t.yaml", &env(&chain), None), vec![]);
-        let cycle = format!("{rooms}{}{}{}", obj("x", "y"), obj("y", "z"), obj("z", "x"));
+        let cycle = format!(
+            "{rooms}{}{}{}",
+            obj("x", "y", 0),
+            obj("y", "z", 0),
+            obj("z", "x", 0)
+        );
         let d = check_environment("t.yaml", &env(&cycle), None);
         let paths: Vec<&str> = d.iter().map(|d| d.path.as_str()).collect();
         assert_eq!(paths, ["objects[0].on", "objects[1].on", "objects[2].on"]);
@@ -659,5 +845,140 @@ mod tests {
         assert!(d
             .iter()
             .any(|d| d.path == "objects[0].size[0]" && d.message.contains("positive")));
+    }
+
+    /// A table 0.75 m high in room `a` and one object `rel` it at height `z`.
+    fn on_table(rel: &str, z: f64) -> Vec<Diagnostic> {
+        let e = env(&format!("rooms: [{{name: a, category: office, seed: {{x: 1.5, y: 1.5}}}}]\nobjects:\n  - {{id: t, class: table, role: landmark, pose: {{x: 1.5, y: 1.5}}, size: [0.8, 0.8, 0.75], room: a}}\n  - {{id: m, class: mug, role: target, pose: {{x: 1.5, y: 1.5, z: {z}}}, size: [0.1, 0.1, 0.1], room: a, {rel}: t}}\n"));
+        check_environment("t.yaml", &e, None)
+    }
+
+    #[test]
+    fn an_object_on_a_landmark_must_stand_at_the_landmark_top_height() {
+        assert_eq!(on_table("on", 0.75), vec![]);
+        assert_eq!(on_table("on", 0.79), vec![], "within the 5 cm slack");
+        for z in [2.0, 0.0, 0.6] {
+            let d = on_table("on", z);
+            assert_eq!(d.len(), 1, "z = {z}: {d:?}");
+            assert_eq!(d[0].path, "objects[1].pose.z");
+            assert!(
+                d[0].message.contains(&format!(
+                    "z = {z} but `t`, which the object stands on, has its top at 0.75 m"
+                )),
+                "{}",
+                d[0]
+            );
+            assert!(d[0].expected.starts_with("z = 0.75 "), "{}", d[0]);
+        }
+    }
+
+    #[test]
+    fn an_object_in_a_landmark_must_lie_between_its_base_and_top() {
+        for z in [0.0, 0.4, 0.75] {
+            assert_eq!(on_table("in", z), vec![], "z = {z}");
+        }
+        let d = on_table("in", 1.5);
+        assert_eq!(d.len(), 1, "{d:?}");
+        assert_eq!(d[0].path, "objects[1].pose.z");
+        assert!(
+            d[0].message.contains("spans heights 0 to 0.75 m"),
+            "{}",
+            d[0]
+        );
+    }
+
+    #[test]
+    fn a_raised_landmark_top_counts_from_its_own_height() {
+        // A shelf board mounted at 1 m, 0.02 m thick: its top is at 1.02 m.
+        let e = env("rooms: [{name: a, category: office, seed: {x: 1.5, y: 1.5}}]\nobjects:\n  - {id: b, class: shelf, role: landmark, pose: {x: 1.5, y: 1.5, z: 1.0}, size: [0.8, 0.3, 0.02], room: a}\n  - {id: m, class: mug, role: target, pose: {x: 1.5, y: 1.5, z: 1.02}, size: [0.1, 0.1, 0.1], room: a, on: b}\n");
+        assert_eq!(check_environment("t.yaml", &e, None), vec![]);
+    }
+
+    fn with_doors(radius: f64, widths: &[f64]) -> Vec<Diagnostic> {
+        let mut text = format!(
+            "kind: environment\nname: t\nmap: {{ ascii: \"###\\n#.#\\n###\\n\", resolution: 1.0 }}\nrobot: {{ start: {{ x: 1.5, y: 1.5 }}, radius: {radius} }}\ndoors:\n"
+        );
+        for (i, w) in widths.iter().enumerate() {
+            // Doors in the wall cells: the door checks against the walls skip them.
+            text.push_str(&format!(
+                "  - {{ name: d{i}, pose: {{ x: 0.5, y: 0.5 }}, width: {w} }}\n"
+            ));
+        }
+        let e: Environment = crate::load_yaml_str("t.yaml", &text).unwrap();
+        check_environment("t.yaml", &e, None)
+    }
+
+    #[test]
+    fn a_door_narrower_than_the_robot_is_an_error_naming_the_door() {
+        assert_eq!(
+            with_doors(0.25, &[0.5, 0.9]),
+            vec![],
+            "a 0.5 m robot fits a 0.5 m door"
+        );
+        let d = with_doors(0.25, &[0.9, 0.4]);
+        assert_eq!(d.len(), 1, "{d:?}");
+        assert_eq!(d[0].path, "doors[1].width");
+        assert!(
+            d[0].message
+                .contains("door `d1` is 0.4 m wide, narrower than the robot (0.5 m across"),
+            "{}",
+            d[0]
+        );
+    }
+
+    #[test]
+    fn a_robot_wider_than_every_door_is_one_error_at_its_radius() {
+        let d = with_doors(0.5, &[0.9, 0.8]);
+        assert_eq!(d.len(), 1, "{d:?}");
+        assert_eq!(d[0].path, "robot.radius");
+        assert!(
+            d[0].message
+                .contains("the widest door, `d0`, is 0.9 m wide"),
+            "{}",
+            d[0]
+        );
+        assert!(d[0].expected.contains("at most 0.45 m"), "{}", d[0]);
+        // No doors: nothing to pass through, nothing to report.
+        assert_eq!(with_doors(5.0, &[]), vec![]);
+    }
+
+    #[test]
+    fn a_ragged_ascii_map_names_the_first_short_row() {
+        let text = "kind: environment\nname: t\nmap:\n  resolution: 1.0\n  ascii: |\n    #####\n    #...#\n    #..\n    #...#\n    ####\nrobot: { start: { x: 1.5, y: 1.5 } }\n";
+        let e: Environment = crate::load_yaml_str("t.yaml", text).unwrap();
+        let mut d = check_environment("t.yaml", &e, None);
+        crate::positions::locate(&mut d, text);
+        assert_eq!(d.len(), 1, "{d:?}");
+        assert_eq!(d[0].path, "map.ascii");
+        // Located at the map's first row (a block scalar's position); the message counts rows.
+        assert_eq!(d[0].line, Some(6));
+        assert!(
+            d[0].message
+                .contains("row 3 of the map (line 3 of `ascii`) is 3 cells long but row 1 is 5 (1 more rows differ)"),
+            "{}",
+            d[0]
+        );
+        let square = text
+            .replace("    #..\n", "    #...#\n")
+            .replace("    ####\n", "    #####\n");
+        let e: Environment = crate::load_yaml_str("t.yaml", &square).unwrap();
+        assert_eq!(check_environment("t.yaml", &e, None), vec![]);
+    }
+
+    #[test]
+    fn doors_of_an_ascii_map_are_checked_against_its_walls() {
+        let text = "kind: environment\nname: t\nmap:\n  resolution: 0.5\n  ascii: |\n    #######\n    #..#..#\n    #.....#\n    #..#..#\n    #######\nrobot: { start: { x: 0.75, y: 0.75 } }\ndoors:\n  - { name: d, pose: { x: 1.75, y: 1.25, yaw_deg: 0 }, width: 0.5 }\n";
+        let e: Environment = crate::load_yaml_str("t.yaml", text).unwrap();
+        assert_eq!(check_environment("t.yaml", &e, None), vec![]);
+        let e: Environment =
+            crate::load_yaml_str("t.yaml", &text.replace("yaw_deg: 0", "yaw_deg: 90")).unwrap();
+        let d = check_environment("t.yaml", &e, None);
+        assert_eq!(d.len(), 1, "{d:?}");
+        assert_eq!(d[0].path, "doors[0].pose.yaw_deg");
+        let e: Environment =
+            crate::load_yaml_str("t.yaml", &text.replace("width: 0.5", "width: 2.5")).unwrap();
+        let d = check_environment("t.yaml", &e, None);
+        assert_eq!(d.len(), 1, "{d:?}");
+        assert_eq!(d[0].path, "doors[0].width");
     }
 }

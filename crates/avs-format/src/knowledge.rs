@@ -244,7 +244,7 @@ impl Knowledge {
 
 /// Parse and check a knowledge file's text, returning every problem found (empty when valid).
 pub fn check(file: &str, text: &str) -> Vec<Diagnostic> {
-    match crate::load_yaml_str::<Knowledge>(file, text) {
+    match crate::load::load_yaml_str_explained::<Knowledge>(file, text) {
         Ok(k) => validate(file, &k),
         Err(e) => e.diagnostics,
     }

@@ -26,9 +26,14 @@
 //!   radius, speed positive; thresholds in [0, 1]; laser range at most
 //!   [`check_env::MAX_LASER_RANGE_M`] (a unit slip; the simulator clips rays to the map anyway); names unique per kind (rooms, doors,
 //!   objects); references (`room`, `on`, `in`, door `rooms`) resolve; a supporting object is a
-//!   landmark in the same room, under the object (footprint + 5 cm), with no support cycles;
-//!   with a knowledge file, categories and classes are known ones and landmarks have landmark
-//!   classes. A room needs a `seed` or a `polygon`, since without either it has no extent.
+//!   landmark in the same room, under the object (footprint + 5 cm), with no support cycles,
+//!   and at its height (an object `on` a landmark stands at its top, one `in` it between its
+//!   base and top, within 5 cm); no door is narrower than the robot; an ASCII map's rows are
+//!   equally long, and its doors sit across gaps of its walls no narrower than them
+//!   ([`check_doors`]); with a knowledge file, categories and classes are known ones and
+//!   landmarks have landmark classes. A room needs a `seed` or a `polygon`, since without
+//!   either it has no extent. A missing field is reported with the fields of its section
+//!   ([`load::explain_missing_fields`]).
 //!   Every check is linear (or n log n) in the file, so a large file cannot make it hang.
 //! - **Scenarios** ([`scenario`]): a search re-enacted for a test or an experiment (world
 //!   edits, goal, seed, expected properties), run by `avs-eval`. [`schema::schema_json`] prints
@@ -37,25 +42,29 @@
 //!
 //! ```
 //! use avs_format::{environment::Environment, load_yaml_str};
-//! let env: Environment = load_yaml_str("inline.yaml", r#"
-//! kind: environment
-//! name: tiny
-//! map:
-//!   ascii: |
-//!     #####
-//!     #...#
-//!     #####
-//!   resolution: 0.5
-//! robot: { start: { x: 1.0, y: 0.75 } }
-//! "#).unwrap();
+//! // One line per string: rustdoc would read a line that starts with `##` as `#`.
+//! let text = [
+//!     "kind: environment",
+//!     "name: tiny",
+//!     "map:",
+//!     "  ascii: |",
+//!     "    #####",
+//!     "    #...#",
+//!     "    #####",
+//!     "  resolution: 0.5",
+//!     "robot: { start: { x: 1.0, y: 0.75 } }",
+//! ]
+//! .join("\n");
+//! let env: Environment = load_yaml_str("inline.yaml", &text).unwrap();
 //! assert_eq!(env.name, "tiny");
-//! assert!(avs_format::check_env::check_environment("inline.yaml", &env, None).is_empty());
+//! assert_eq!(avs_format::check_env::check_environment("inline.yaml", &env, None), vec![]);
 //!
 //! // A wrong type is reported with its field path, line and column.
 //! let err = load_yaml_str::<Environment>("bad.yaml", "kind: environment\nname: [1]\n").unwrap_err();
 //! assert_eq!(err.diagnostics[0].path, "name");
 //! assert_eq!(err.diagnostics[0].line, Some(2));
 //! ```
+pub mod check_doors;
 pub mod check_env;
 pub mod diag;
 pub mod environment;

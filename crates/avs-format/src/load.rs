@@ -165,6 +165,214 @@ pub fn load_yaml_str<T: DeserializeOwned>(file: &str, text: &str) -> Result<T, L
     })
 }
 
+/// [`load_yaml_str`] for a type with a JSON Schema: a missing field is also explained from the
+/// schema ([`explain_missing_fields`]) — what the field holds and which fields its section has.
+pub fn load_yaml_str_explained<T: DeserializeOwned + schemars::JsonSchema>(
+    file: &str,
+    text: &str,
+) -> Result<T, LoadError> {
+    load_yaml_str(file, text).map_err(|mut e| {
+        explain_missing_fields::<T>(&mut e.diagnostics);
+        e
+    })
+}
+
+/// Rewrite the `expected` half of each "missing field `f`" diagnostic (as [`load_yaml_str`]
+/// makes them, with paths relative to a `T`) from `T`'s JSON Schema: the field's description and
+/// the required and optional fields of the section it is missing from, e.g. "the field
+/// `category` is required: room category, one of the knowledge file's `room_categories`; this
+/// section has `name`, `category` (required) and `seed`, `polygon` (optional)". Diagnostics
+/// whose section the schema does not pin down (several forms fit) are left as they are.
+pub fn explain_missing_fields<T: schemars::JsonSchema>(diagnostics: &mut [Diagnostic]) {
+    let missing = |d: &Diagnostic| {
+        d.message
+            .strip_prefix("missing field `")
+            .and_then(|r| r.strip_suffix('`'))
+            .map(str::to_string)
+    };
+    if !diagnostics.iter().any(|d| missing(d).is_some()) {
+        return;
+    }
+    let Ok(root) = serde_json::to_value(schemars::schema_for!(T)) else {
+        return;
+    };
+    for d in diagnostics.iter_mut() {
+        let Some(field) = missing(d) else { continue };
+        if let Some(expected) = schema_hint::explain(&root, &d.path, &field) {
+            d.expected = expected;
+        }
+    }
+}
+
+/// Reading a JSON Schema (schemars 0.8: `definitions`, `$ref`, `allOf` / `anyOf` wrappers) to
+/// explain a missing field. Every walk is bounded by the path's length and a fixed depth.
+mod schema_hint {
+    use serde_json::Value;
+
+    /// Most `$ref` / `allOf` / `anyOf` levels followed from one node.
+    const MAX_HOPS: usize = 16;
+
+    /// Follow `$ref` and single-element `allOf` wrappers.
+    fn deref<'a>(root: &'a Value, mut node: &'a Value) -> &'a Value {
+        for _ in 0..MAX_HOPS {
+            if let Some(r) = node.get("$ref").and_then(Value::as_str) {
+                let name = r.rsplit('/').next().unwrap_or(r);
+                match root.get("definitions").and_then(|d| d.get(name)) {
+                    Some(n) => node = n,
+                    None => break,
+                }
+            } else if let Some([one]) = node
+                .get("allOf")
+                .and_then(Value::as_array)
+                .map(Vec::as_slice)
+            {
+                node = one;
+            } else {
+                break;
+            }
+        }
+        node
+    }
+
+    /// The alternatives a node stands for (`anyOf` / `oneOf` flattened, e.g. an optional value
+    /// or an untagged enum), each dereferenced.
+    fn forms<'a>(root: &'a Value, node: &'a Value, depth: usize, out: &mut Vec<&'a Value>) {
+        let node = deref(root, node);
+        let alts = node
+            .get("anyOf")
+            .or_else(|| node.get("oneOf"))
+            .and_then(Value::as_array);
+        match alts {
+            Some(alts) if depth < MAX_HOPS => {
+                for a in alts {
+                    forms(root, a, depth + 1, out);
+                }
+            }
+            _ => out.push(node),
+        }
+    }
+
+    /// One step of a dotted path: a field name or a list index.
+    enum Step<'p> {
+        Field(&'p str),
+        Index(usize),
+    }
+
+    /// `rooms[0].seed` → `rooms`, 0, `seed`; `None` for a path this walk cannot read.
+    fn steps(path: &str) -> Option<Vec<Step<'_>>> {
+        let mut out = Vec::new();
+        if path.is_empty() {
+            return Some(out);
+        }
+        for part in path.split('.') {
+            let (name, mut rest) = match part.find('[') {
+                Some(i) => (&part[..i], &part[i..]),
+                None => (part, ""),
+            };
+            if !name.is_empty() {
+                out.push(Step::Field(name));
+            }
+            while let Some(r) = rest.strip_prefix('[') {
+                let (num, tail) = r.split_once(']')?;
+                out.push(Step::Index(num.parse().ok()?));
+                rest = tail;
+            }
+            if !rest.is_empty() {
+                return None;
+            }
+        }
+        Some(out)
+    }
+
+    /// The section (an object schema) at `path` that has a property `field`, when exactly one
+    /// form fits.
+    fn section<'a>(root: &'a Value, path: &str, field: &str) -> Option<&'a Value> {
+        let mut node = root;
+        for step in steps(path)? {
+            let mut fs = Vec::new();
+            forms(root, node, 0, &mut fs);
+            node = match step {
+                Step::Field(name) => fs
+                    .into_iter()
+                    .find_map(|f| f.get("properties").and_then(|p| p.get(name)))?,
+                Step::Index(i) => fs.into_iter().find_map(|f| match f.get("items")? {
+                    Value::Array(tuple) => tuple.get(i),
+                    one => Some(one),
+                })?,
+            };
+        }
+        let mut fs = Vec::new();
+        forms(root, node, 0, &mut fs);
+        let mut fits = fs
+            .into_iter()
+            .filter(|f| f.get("properties").and_then(|p| p.get(field)).is_some());
+        let one = fits.next()?;
+        fits.next().is_none().then_some(one)
+    }
+
+    /// The first sentence of a description, lower-cased at the start, at most 160 characters.
+    fn first_sentence(s: &str) -> String {
+        let s = s.trim();
+        let end = s.find(". ").or_else(|| s.find('\n')).unwrap_or(s.len());
+        let mut t: String = s[..end].trim_end_matches('.').chars().take(160).collect();
+        let mut cs = t.chars();
+        if let (Some(a), Some(b)) = (cs.next(), cs.next()) {
+            if a.is_uppercase() && !b.is_uppercase() {
+                t = a.to_lowercase().chain(t.chars().skip(1)).collect();
+            }
+        }
+        t
+    }
+
+    /// The `expected` text for field `field` missing at `path`, or `None`.
+    pub(super) fn explain(root: &Value, path: &str, field: &str) -> Option<String> {
+        let sec = section(root, path, field)?;
+        let props = sec.get("properties")?.as_object()?;
+        let required: Vec<&str> = sec
+            .get("required")
+            .and_then(Value::as_array)
+            .map(|v| v.iter().filter_map(Value::as_str).collect())
+            .unwrap_or_default();
+        let list = |names: Vec<&str>| {
+            names
+                .iter()
+                .map(|n| format!("`{n}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let names: Vec<&str> = props.keys().map(String::as_str).collect();
+        let req: Vec<&str> = names
+            .iter()
+            .copied()
+            .filter(|n| required.contains(n))
+            .collect();
+        let opt: Vec<&str> = names
+            .iter()
+            .copied()
+            .filter(|n| !required.contains(n))
+            .collect();
+        let about = props
+            .get(field)
+            .map(|p| {
+                p.get("description")
+                    .or_else(|| deref(root, p).get("description"))
+                    .and_then(Value::as_str)
+                    .map(first_sentence)
+                    .unwrap_or_default()
+            })
+            .unwrap_or_default();
+        let mut s = format!("the field `{field}` is required");
+        if !about.is_empty() {
+            s.push_str(&format!(": {about}"));
+        }
+        s.push_str(&format!("; this section has {} (required)", list(req)));
+        if !opt.is_empty() {
+            s.push_str(&format!(" and {} (optional)", list(opt)));
+        }
+        Some(s)
+    }
+}
+
 fn yaml_message(e: &serde_yaml::Error) -> String {
     // serde_yaml appends " at line L column C"; we print the position in front instead.
     let s = e.to_string();
@@ -310,5 +518,75 @@ mod tests {
             read_kind("f.yaml", "kind: knowledge\nother: 1\n").unwrap(),
             FileKind::Knowledge
         );
+    }
+
+    #[test]
+    fn a_missing_field_lists_the_fields_of_its_section() {
+        let text = "kind: environment\nname: x\nmap: {ascii: \"#\", resolution: 1}\nrobot: {start: {x: 0, y: 0}}\nrooms:\n  - {name: office, seed: {x: 1, y: 1}}\n";
+        let e = load_yaml_str_explained::<Environment>("f.yaml", text).unwrap_err();
+        let d = &e.diagnostics[0];
+        assert_eq!(d.path, "rooms[0]");
+        assert!(d.message.contains("missing field `category`"), "{d}");
+        assert_eq!(
+            d.expected,
+            "the field `category` is required: room category, one of the knowledge file's \
+             `room_categories`; this section has `category`, `name` (required) and `polygon`, \
+             `seed` (optional)"
+        );
+        // Inside an optional section (`seed` is an Option<Point>) and at the top.
+        let e = load_yaml_str_explained::<Environment>(
+            "f.yaml",
+            &text
+                .replace("name: office,", "name: office, category: office,")
+                .replace("{x: 1, y: 1}", "{x: 1}"),
+        )
+        .unwrap_err();
+        assert_eq!(e.diagnostics[0].path, "rooms[0].seed");
+        assert!(
+            e.diagnostics[0]
+                .expected
+                .contains("this section has `x`, `y` (required)"),
+            "{}",
+            e.diagnostics[0]
+        );
+        let e = load_yaml_str_explained::<Environment>(
+            "f.yaml",
+            "kind: environment\nname: x\nmap: {ascii: \"#\", resolution: 1}\n",
+        )
+        .unwrap_err();
+        let d = &e.diagnostics[0];
+        assert!(d.message.contains("missing field `robot`"), "{d}");
+        assert!(
+            d.expected
+                .contains("`kind`, `map`, `name`, `robot` (required)"),
+            "{d}"
+        );
+        assert!(
+            d.expected
+                .contains("`camera`, `doors`, `laser`, `objects`, `rooms` (optional)"),
+            "{d}"
+        );
+    }
+
+    #[test]
+    fn a_missing_field_in_an_ambiguous_section_keeps_the_plain_hint() {
+        // `map` is either form: which fields it needs depends on the form meant.
+        let mut ds = vec![Diagnostic::new(
+            "f.yaml",
+            "map",
+            "missing field `resolution`",
+            "x",
+        )];
+        explain_missing_fields::<Environment>(&mut ds);
+        assert_eq!(ds[0].expected, "x");
+        // A path the schema does not have is left alone too.
+        let mut ds = vec![Diagnostic::new(
+            "f.yaml",
+            "nothing[3]",
+            "missing field `a`",
+            "x",
+        )];
+        explain_missing_fields::<Environment>(&mut ds);
+        assert_eq!(ds[0].expected, "x");
     }
 }

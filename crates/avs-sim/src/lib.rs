@@ -7,19 +7,24 @@
 //!
 //! ```
 //! use avs_sim::{World, SimRobot};
-//! let env: avs_format::environment::Environment = avs_format::load_yaml_str("tiny.yaml", r#"
-//! kind: environment
-//! name: tiny
-//! map:
-//!   resolution: 0.5
-//!   ascii: |
-//!     ##########
-//!     #........#
-//!     #........#
-//!     ##########
-//! rooms: [ { name: hall, category: corridor, seed: { x: 1.0, y: 1.0 } } ]
-//! robot: { start: { x: 0.75, y: 0.75 }, radius: 0.2 }
-//! "#).unwrap();
+//! // One line per string: rustdoc reads a doc line that starts with `##` as `#`, which made
+//! // the wall rows one cell short (a ragged map, which `avs validate` rejects).
+//! let text = [
+//!     "kind: environment",
+//!     "name: tiny",
+//!     "map:",
+//!     "  resolution: 0.5",
+//!     "  ascii: |",
+//!     "    ##########",
+//!     "    #........#",
+//!     "    #........#",
+//!     "    ##########",
+//!     "rooms: [ { name: hall, category: corridor, seed: { x: 1.0, y: 1.0 } } ]",
+//!     "robot: { start: { x: 0.75, y: 0.75 }, radius: 0.2 }",
+//! ]
+//! .join("\n");
+//! let env: avs_format::environment::Environment =
+//!     avs_format::load_yaml_str("tiny.yaml", &text).unwrap();
 //! let world = World::new(env, std::path::Path::new(".")).unwrap();
 //! let mut robot = SimRobot::new(&world, 7);
 //! let m = robot.move_to([4.25, 1.25]);
