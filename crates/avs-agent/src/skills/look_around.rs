@@ -105,6 +105,10 @@ pub(crate) fn look_around<R: Robot + ?Sized>(
             tracing::debug!(class = %d.class, x = d.pose.x, y = d.pose.y, "landmark in another room");
             continue; // seen through a door: another room
         }
+        // The count is of the landmarks seen from here, known ones included: a landmark found
+        // before and seen again is still in the room, and counting it as none (a look around
+        // at the start of a second goal) was evidence against the room's own furniture.
+        *counts.entry(d.class.clone()).or_default() += 1;
         let near = mem.object_place([d.pose.x, d.pose.y]).unwrap_or(place);
         let known = mem
             .objects
@@ -113,7 +117,6 @@ pub(crate) fn look_around<R: Robot + ?Sized>(
         if known {
             continue;
         }
-        *counts.entry(d.class.clone()).or_default() += 1;
         let lm = mem.wm.found_landmark(near, &d.class)?;
         mem.objects.push(Known {
             class: d.class.clone(),
@@ -209,6 +212,41 @@ mod tests {
         assert!(views
             .iter()
             .all(|v| config.tuning.look_tilts.contains(&v.tilt)));
+    }
+
+    /// A second look around in a room (the start of a second goal, from another place) sees
+    /// the landmarks found by the first again. Counted as none because they were known, they
+    /// were evidence against the room's own furniture: a kitchen with a counter then read as
+    /// less of a kitchen after every look.
+    #[test]
+    fn looking_around_again_counts_the_known_landmarks_it_sees() {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        let mut robot = testing::robot(testing::room(6.0, 4.0), [1.5, 2.0]);
+        robot.place(object("counter", 4.5, 3.4, 0.9));
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let mut sink = testing::sink();
+        let mut run = testing::run(&mut sink);
+        let cx = Ctx {
+            knowledge: &k,
+            config: &config,
+        };
+        let mut body = Body::new(&mut robot);
+        look_around(cx, &mut mem, &mut body, &mut run).unwrap();
+        let room = mem.current_room().expect("a room");
+        let first = mem.wm.concepts.p_category(room, "kitchen").unwrap();
+        assert_eq!(mem.objects.len(), 1, "{:?}", mem.objects);
+        // To another place of the same room, and look around there as a new goal does.
+        body.go_to(&mut mem, [3.5, 1.0]).unwrap().unwrap();
+        let moved = mem.current_place();
+        assert_eq!(mem.current_room(), Some(room));
+        mem.looked.clear();
+        look_around(cx, &mut mem, &mut body, &mut run).unwrap();
+        assert_eq!(mem.objects.len(), 1, "the known counter was added again");
+        let second = mem.wm.concepts.p_category(room, "kitchen").unwrap();
+        assert!(
+            second >= first - 1e-9,
+            "P(kitchen) {first} -> {second} after seeing the same counter again from {moved:?}"
+        );
     }
 
     #[test]
