@@ -11,6 +11,17 @@
 //! until every point is covered or no view adds any. Greedy set cover is within a factor `H(k) ≤ ln k + 1`
 //! of the minimum number of views (Chvátal 1979).
 //!
+//! **Travel** ([`create_view_cones_costed`]). The paper counts views; a robot pays for the walk
+//! between standpoints too, and a plan whose 12 views stand on 7 standpoints walks a room over
+//! twice. Our choice: the weighted greedy of Chvátal (1979) — repeatedly the view with the most
+//! new points per unit of cost — where a view costs [`CoverOptions::per_view`] plus
+//! [`CoverOptions::per_metre`] times the straight-line distance from its standpoint to the nearest
+//! standpoint already chosen (or to where the robot stands, [`CoverOptions::from`]); a view from a
+//! chosen standpoint adds no travel. That distance is the growth of the minimum spanning tree
+//! over the standpoints as Prim's algorithm adds them, and a tour through them is at most twice
+//! that tree, so the greedy trades new points against a bound on the walk. With `per_metre = 0`
+//! it is the unweighted greedy above, view for view.
+//!
 //! **Zoom** ([`create_view_cones_zoomed`]). The paper plans its views at no zoom and zooms only on
 //! hypotheses (§3.4), with the planning step's maximum detection distance set by the unzoomed
 //! image (§3.2). For a small object that leaves whole regions no unzoomed view can cover: a
@@ -67,6 +78,36 @@ pub struct PlannedView {
     pub covered: Vec<usize>,
     /// The points it covered first (disjoint across views; in greedy order).
     pub newly_covered: Vec<usize>,
+}
+
+/// How [`create_view_cones_costed`] counts a point as covered and what a view costs in its
+/// greedy choice (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct CoverOptions {
+    /// Half the spacing of the points' horizontal lattice times √2 (≥ 0, metres): a point
+    /// stands for the cell around it, where the object may be anywhere, so a view covers it
+    /// only when the whole cell is inside the horizontal field of view — the bearing to the
+    /// point plus `atan(point_radius / horizontal distance)` within half the field. 0 counts
+    /// the point alone, as the paper's points are.
+    pub point_radius: f64,
+    /// Cost of processing one view (> 0).
+    pub per_view: f64,
+    /// Cost per metre of the straight line from a new standpoint to the nearest standpoint
+    /// already chosen (≥ 0).
+    pub per_metre: f64,
+    /// Where the robot stands when the views are planned: the first standpoint's travel is
+    /// measured from here. `None`: the first standpoint costs no travel.
+    pub from: Option<[f64; 2]>,
+}
+
+impl CoverOptions {
+    /// Views counted alone, as the paper's greedy does (§2.1.4), over bare points.
+    pub const VIEWS_ONLY: CoverOptions = CoverOptions {
+        point_radius: 0.0,
+        per_view: 1.0,
+        per_metre: 0.0,
+        from: None,
+    };
 }
 
 /// The result of CREATEVIEWCONES.
@@ -130,6 +171,28 @@ pub fn create_view_cones_zoomed(
     zooms: &[f64],
     line_of_sight: impl Fn([f64; 3], [f64; 3]) -> bool,
 ) -> Result<ViewConePlan> {
+    create_view_cones_costed(
+        points,
+        poses,
+        camera,
+        range,
+        zooms,
+        CoverOptions::VIEWS_ONLY,
+        line_of_sight,
+    )
+}
+
+/// [`create_view_cones_zoomed`] with the weighted greedy: each view's new points per unit of
+/// `costs` (processing plus the walk to a new standpoint; see the module docs).
+pub fn create_view_cones_costed(
+    points: &[[f64; 3]],
+    poses: &[[f64; 3]],
+    camera: &CameraModel,
+    range: DetectionRange,
+    zooms: &[f64],
+    costs: CoverOptions,
+    line_of_sight: impl Fn([f64; 3], [f64; 3]) -> bool,
+) -> Result<ViewConePlan> {
     let bad = |field: &'static str, message: String| ViewError::InvalidInput { field, message };
     if points.iter().flatten().any(|v| !v.is_finite()) {
         return Err(bad("points", "coordinates must be finite".into()));
@@ -175,6 +238,22 @@ pub fn create_view_cones_zoomed(
             format!("expected one or more zoom levels, each a number ≥ 1, got {zooms:?}"),
         ));
     }
+    if !(costs.point_radius.is_finite()
+        && costs.point_radius >= 0.0
+        && costs.per_view.is_finite()
+        && costs.per_view > 0.0
+        && costs.per_metre.is_finite()
+        && costs.per_metre >= 0.0
+        && costs.from.is_none_or(|f| f.iter().all(|v| v.is_finite())))
+    {
+        return Err(bad(
+            "costs",
+            format!(
+                "expected point_radius ≥ 0, per_view > 0, per_metre ≥ 0 and a finite start, got radius {}, {} per view, {} per metre, from {:?}",
+                costs.point_radius, costs.per_view, costs.per_metre, costs.from
+            ),
+        ));
+    }
     let mut levels = zooms.to_vec();
     levels.sort_by(f64::total_cmp);
     levels.dedup();
@@ -195,6 +274,7 @@ pub fn create_view_cones_zoomed(
             c,
             range,
             zoom,
+            costs.point_radius,
             &line_of_sight,
             &mut candidates,
         );
@@ -202,18 +282,37 @@ pub fn create_view_cones_zoomed(
             cand.covered.iter().for_each(|&k| coverable[k] = true);
         }
     }
-    // Greedy set cover (§2.1.4).
+    // Greedy set cover (§2.1.4), weighted by each view's cost (module docs): `reach[p]` is the
+    // straight-line distance from pose p to the nearest standpoint chosen so far (or to the
+    // start; infinite while there is neither), 0 once p itself is chosen.
+    let mut reach: Vec<f64> = poses
+        .iter()
+        .map(|p| costs.from.map_or(f64::INFINITY, |f| dist2(f, [p[0], p[1]])))
+        .collect();
     let mut is_covered = vec![false; points.len()];
     let mut views = Vec::new();
     loop {
         let best = candidates
             .iter()
             .enumerate()
-            .map(|(i, cand)| (i, cand.covered.iter().filter(|k| !is_covered[**k]).count()))
-            .filter(|(_, n)| *n > 0)
-            .max_by(|x, y| x.1.cmp(&y.1).then(y.0.cmp(&x.0)));
-        let Some((i, _)) = best else { break };
+            .map(|(i, cand)| {
+                let n = cand.covered.iter().filter(|k| !is_covered[**k]).count();
+                // Infinite before the first standpoint when there is no start: no travel.
+                let walk = Some(reach[cand.pose])
+                    .filter(|r| r.is_finite())
+                    .unwrap_or(0.0);
+                let cost = costs.per_view + costs.per_metre * walk;
+                (i, n, n as f64 / cost)
+            })
+            .filter(|(_, n, _)| *n > 0)
+            .max_by(|x, y| x.2.total_cmp(&y.2).then(x.1.cmp(&y.1)).then(y.0.cmp(&x.0)));
+        let Some((i, _, _)) = best else { break };
         let cand = candidates.swap_remove(i);
+        let at = poses[cand.pose];
+        for (r, p) in reach.iter_mut().zip(poses) {
+            *r = r.min(dist2([at[0], at[1]], [p[0], p[1]]));
+        }
+        reach[cand.pose] = 0.0;
         let newly: Vec<usize> = cand
             .covered
             .iter()
@@ -243,6 +342,11 @@ pub fn create_view_cones_zoomed(
     })
 }
 
+/// Straight-line distance in the plane.
+fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
 /// A candidate view: pose index, camera angles and zoom, and the points it covers.
 struct Candidate {
     pose: usize,
@@ -253,8 +357,9 @@ struct Candidate {
 }
 
 /// Append to `out` the candidate views at `zoom` (fields of view divided by it, distance
-/// interval multiplied by it) that cover some of the points `wanted`: every pose × pan × tilt
-/// on a grid of half the (zoomed) field of view.
+/// interval multiplied by it) that cover some of the points `wanted` (each with the cell of
+/// `point_radius` around it): every pose × pan × tilt on a grid of half the (zoomed) field
+/// of view.
 #[expect(
     clippy::too_many_arguments,
     reason = "the candidate generator needs the points, the camera, the range and the zoom level"
@@ -266,6 +371,7 @@ fn zoom_candidates(
     c: &CameraModel,
     range: DetectionRange,
     zoom: f64,
+    point_radius: f64,
     line_of_sight: &impl Fn([f64; 3], [f64; 3]) -> bool,
     out: &mut Vec<Candidate>,
 ) {
@@ -280,7 +386,7 @@ fn zoom_candidates(
     for (pi, pose) in poses.iter().enumerate() {
         let cam = [pose[0], pose[1], c.height];
         // Points in range and in line of sight do not depend on the camera angles.
-        let visible: Vec<(usize, f64, f64)> = wanted
+        let visible: Vec<(usize, f64, f64, f64)> = wanted
             .iter()
             .filter_map(|&k| {
                 let p = points[k];
@@ -290,7 +396,13 @@ fn zoom_candidates(
                 if d < d_min || d > d_max || !line_of_sight(cam, p) {
                     return None;
                 }
-                Some((k, dy.atan2(dx), dz.atan2(horiz)))
+                // The half-width, seen from here, of the cell the point stands for.
+                let margin = if point_radius > 0.0 {
+                    point_radius.atan2(horiz)
+                } else {
+                    0.0
+                };
+                Some((k, dy.atan2(dx), dz.atan2(horiz), margin))
             })
             .collect();
         if visible.is_empty() {
@@ -301,11 +413,11 @@ fn zoom_candidates(
             for &tilt in &tilts {
                 let covered: Vec<usize> = visible
                     .iter()
-                    .filter(|(_, az, el)| {
-                        wrap_angle(az - yaw).abs() <= hfov / 2.0 + 1e-12
+                    .filter(|(_, az, el, margin)| {
+                        wrap_angle(az - yaw).abs() + margin <= hfov / 2.0 + 1e-12
                             && (el - tilt).abs() <= vfov / 2.0 + 1e-12
                     })
-                    .map(|(k, _, _)| *k)
+                    .map(|(k, _, _, _)| *k)
                     .collect();
                 if !covered.is_empty() {
                     out.push(Candidate {

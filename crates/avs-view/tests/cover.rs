@@ -1,6 +1,9 @@
 //! CREATEVIEWCONES: coverage under field of view, distance limits and line of sight.
 
-use avs_view::{create_view_cones, create_view_cones_zoomed, CameraModel, DetectionRange};
+use avs_view::{
+    create_view_cones, create_view_cones_costed, create_view_cones_zoomed, CameraModel,
+    CoverOptions, DetectionRange,
+};
 use std::f64::consts::PI;
 
 fn camera() -> CameraModel {
@@ -345,4 +348,143 @@ fn a_needle_thin_field_of_view_plans_on_a_capped_angle_grid_and_reports_the_gaps
                 .sum::<usize>(),
         pts.len()
     );
+}
+
+#[test]
+fn views_weighed_by_no_travel_are_the_unweighted_greedy_view_for_view() {
+    let pts = room_points();
+    let poses = [[1.0, 2.0, 0.0], [3.0, 2.0, 0.0], [5.0, 2.0, 0.0]];
+    let range = DetectionRange { min: 0.5, max: 4.0 };
+    let plain = create_view_cones(&pts, &poses, &camera(), range, |_, _| true).unwrap();
+    let free_walk = CoverOptions {
+        point_radius: 0.0,
+        per_view: 2.5,
+        per_metre: 0.0,
+        from: Some([5.0, 2.0]),
+    };
+    let costed =
+        create_view_cones_costed(&pts, &poses, &camera(), range, &[1.0], free_walk, |_, _| {
+            true
+        })
+        .unwrap();
+    assert_eq!(plain, costed);
+}
+
+/// Two standpoints: the robot stands on A, B is 4 m away. B's best view sees the whole 3 × 3
+/// cluster of points in front of it (9 points), A's sees only the nearest row of 3. Counted
+/// alone, B's view wins; with a walk costing 1 per metre and a view 1, A's view is worth
+/// 3 / 1 = 3 new points per unit and B's 9 / (1 + 4) = 1.8, so A's view comes first and B's
+/// view (then worth 6 / 5 = 1.2) second, for the rest. Both plans cover every point.
+#[test]
+fn a_walk_to_a_far_standpoint_is_paid_for_in_the_greedy_choice() {
+    // Points at camera height in a 3 × 3 cluster around (5.5, 0); A at the origin sees only
+    // those within 5.3 m (the row at x = 5), B at (4, 0) sees all of them.
+    let mut pts = Vec::new();
+    for i in 0..3 {
+        for j in 0..3 {
+            pts.push([5.0 + 0.5 * i as f64, -0.5 + 0.5 * j as f64, 1.2]);
+        }
+    }
+    let cam = CameraModel {
+        hfov: 120f64.to_radians(),
+        vfov: 45f64.to_radians(),
+        pan_limits: [0.0, 0.0],
+        tilt_limits: [0.0, 0.0],
+        height: 1.2,
+    };
+    let range = DetectionRange { min: 0.5, max: 5.3 };
+    let poses = [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0]];
+    let seen_from_a = pts.iter().filter(|p| p[0].hypot(p[1]) <= range.max).count();
+    assert_eq!(seen_from_a, 3, "the scene is built so that A sees 3 points");
+    let plain = create_view_cones(&pts, &poses, &cam, range, |_, _| true).unwrap();
+    assert_eq!(plain.views.len(), 1);
+    assert_eq!(
+        plain.views[0].pose_index, 1,
+        "counted alone, B's 9 points win"
+    );
+    let walk = CoverOptions {
+        point_radius: 0.0,
+        per_view: 1.0,
+        per_metre: 1.0,
+        from: Some([0.0, 0.0]),
+    };
+    let costed =
+        create_view_cones_costed(&pts, &poses, &cam, range, &[1.0], walk, |_, _| true).unwrap();
+    let order: Vec<usize> = costed.views.iter().map(|v| v.pose_index).collect();
+    assert_eq!(
+        order,
+        vec![0, 1],
+        "A's cheap view first, then B's for the rest"
+    );
+    assert_eq!(costed.views[0].newly_covered.len(), 3);
+    assert_eq!(costed.views[1].newly_covered.len(), 6);
+    assert_eq!(costed.covered_share, 1.0);
+    assert_eq!(plain.covered_share, 1.0);
+}
+
+#[test]
+fn view_costs_that_are_not_positive_and_finite_are_rejected() {
+    let pts = room_points();
+    let poses = [[1.0, 2.0, 0.0]];
+    let range = DetectionRange { min: 0.5, max: 4.0 };
+    for costs in [
+        CoverOptions {
+            per_view: 0.0,
+            ..CoverOptions::VIEWS_ONLY
+        },
+        CoverOptions {
+            point_radius: -0.1,
+            ..CoverOptions::VIEWS_ONLY
+        },
+        CoverOptions {
+            per_view: f64::NAN,
+            ..CoverOptions::VIEWS_ONLY
+        },
+        CoverOptions {
+            per_metre: -1.0,
+            ..CoverOptions::VIEWS_ONLY
+        },
+        CoverOptions {
+            from: Some([f64::INFINITY, 0.0]),
+            ..CoverOptions::VIEWS_ONLY
+        },
+    ] {
+        let e =
+            create_view_cones_costed(&pts, &poses, &camera(), range, &[1.0], costs, |_, _| true)
+                .unwrap_err();
+        assert!(e.to_string().contains("costs"), "{costs:?}: {e}");
+    }
+}
+
+/// A point stands for the cell around it: with a cell radius, a view covers the point only when
+/// the whole cell is in the field of view, so a point 1 m away at 25° off the axis of a 60°
+/// camera (inside by 5°) is covered bare, and not with a 0.2 m cell (atan(0.2 / 1) = 11°).
+#[test]
+fn a_point_counts_as_covered_only_when_its_whole_cell_is_in_view() {
+    let cam = CameraModel {
+        hfov: 60f64.to_radians(),
+        vfov: 45f64.to_radians(),
+        pan_limits: [0.0, 0.0],
+        tilt_limits: [0.0, 0.0],
+        height: 1.2,
+    };
+    let range = DetectionRange { min: 0.1, max: 4.0 };
+    let b = 25f64.to_radians();
+    let pts = [[b.cos(), b.sin(), 1.2]];
+    let poses = [[0.0, 0.0, 0.0]];
+    let bare = create_view_cones(&pts, &poses, &cam, range, |_, _| true).unwrap();
+    assert_eq!(bare.covered_share, 1.0);
+    let cells = CoverOptions {
+        point_radius: 0.2,
+        ..CoverOptions::VIEWS_ONLY
+    };
+    let celled =
+        create_view_cones_costed(&pts, &poses, &cam, range, &[1.0], cells, |_, _| true).unwrap();
+    assert!(celled.views.is_empty(), "{:?}", celled.views);
+    assert_eq!(celled.uncovered, vec![0]);
+    // Farther out on the same bearing the cell subtends less: at 4 m, atan(0.2 / 4) = 2.9°.
+    let far = [[3.9 * b.cos(), 3.9 * b.sin(), 1.2]];
+    let celled_far =
+        create_view_cones_costed(&far, &poses, &cam, range, &[1.0], cells, |_, _| true).unwrap();
+    assert_eq!(celled_far.covered_share, 1.0);
 }
