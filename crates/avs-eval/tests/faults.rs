@@ -204,17 +204,30 @@ fn assert_replans_after_failures(r: &SearchReport, what: &str) -> usize {
 }
 
 /// Whether the agent replanned because the map changed under its plan (a placeholder or
-/// door it planned through gone) after the robot had driven `shut` metres.
+/// door it planned through gone), or after seeing a door shut, once the robot had driven
+/// `shut` metres.
 fn replanned_on_map_change_after(r: &SearchReport, shut: f64) -> bool {
     let Some(from) = r.trace.iter().position(
         |e| matches!(e, Event::ActionFinished { path_length, .. } if *path_length >= shut),
     ) else {
         return false;
     };
-    r.trace[from..].iter().any(|e| {
+    let after = &r.trace[from..];
+    let map_changed = after.iter().any(|e| {
         matches!(e, Event::PlanMade { reason, .. }
             if reason.contains("map changed") || reason.contains("no longer holds"))
-    })
+    });
+    // Or the door was seen shut and a plan followed (its reason may be the assumption the
+    // shut door contradicted: the placeholder behind it leads nowhere now).
+    let seen_shut = after
+        .iter()
+        .position(|e| matches!(e, Event::DoorSeen { open: false, .. }));
+    map_changed
+        || seen_shut.is_some_and(|i| {
+            after[i..]
+                .iter()
+                .any(|e| matches!(e, Event::PlanMade { .. }))
+        })
 }
 
 /// Planar distance from the report to the nearest true cerealbox.
