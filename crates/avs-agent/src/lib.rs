@@ -115,7 +115,11 @@
 //!   `in` rates relevant the planner has more hypotheses to chase; on 50 bench floors success
 //!   stayed 1.00, SPL went 0.097 → 0.095 and the mean path 208 → 230 m.
 //! * **SEARCHFOROBJECT** runs a closed-loop view-cone POMDP session (`002` §II-A.2) over the
-//!   cones of CREATEVIEWCONES (greedy coverage, Sjöö et al. `004` §2.1, with line of sight on
+//!   cones of CREATEVIEWCONES (greedy coverage, Sjöö et al. `004` §2.1, weighted: the most new
+//!   points per unit of `process_cost` plus `travel_cost_per_m` × the walk from the nearest
+//!   standpoint already chosen, or the robot — the paper's greedy counts views alone and put a
+//!   room's cones on 6–8 standpoints; on 200 bench floors the weighting took the view-cone
+//!   travel from 103 to 62 m per run and SPL from 0.109 to 0.147 — with line of sight on
 //!   the known map stopping short of furniture footprints, or, for a point resting on known
 //!   furniture, where the line reaches the disc its footprint may cover: the camera looks over
 //!   a table's edge onto its top — a 2½-D sight line, our choice, the papers' maps are

@@ -7,10 +7,11 @@
 //! `before` goals and then the scenario's goal, checks the properties the paper reports for
 //! that run, and compares the text trace with the golden file `<name>.trace` (`AVS_BLESS=1`
 //! rewrites the golden files instead). A scenario marked `known_failure` prints a NOTICE when a
-//! property fails and fails the suite when all its properties hold (so the note gets removed).
+//! property fails and fails the suite when all its properties hold (so the note gets removed);
+//! a wrong report fails the suite in every scenario, known failure or not.
 
 use avs_eval::scenario::golden::{check_golden, verdict, Verdict};
-use avs_eval::scenario::properties::{check_properties, room_name};
+use avs_eval::scenario::properties::{check_properties, evaluate_properties, room_name};
 use avs_eval::scenario::{build_world, load_scenario, run_scenario};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -60,6 +61,16 @@ fn check_scenario(file: &Path) -> Result<(), String> {
     let text = out.text(&name, sc.seed);
     let bad = check_properties(&sc, &out);
     let mut errors = Vec::new();
+    // No golden may pin a wrong answer, known failure or not: a report farther than the
+    // scorer's radius from every true object of its class fails the suite.
+    for p in evaluate_properties(&sc, &out) {
+        if p.name == "no_wrong_report" && !p.pass {
+            errors.push(format!(
+                "{name}: the run ends in a wrong report: {}",
+                p.detail
+            ));
+        }
+    }
     match verdict(&name, file, &sc, &bad, &text) {
         Ok(Verdict::KnownFailure(n)) => notice(&n),
         Ok(Verdict::Pass) => {}

@@ -11,7 +11,7 @@ use avs_map::grid::Cell;
 use avs_map::places::dist;
 use avs_robot::Camera;
 use avs_view::{
-    create_view_cones_zoomed, lattice_step, search_heights, sight_clear, CameraModel,
+    create_view_cones_costed, lattice_step, search_heights, sight_clear, CameraModel, CoverOptions,
     DetectionRange, PlannedView, SightLine,
 };
 use std::collections::BTreeSet;
@@ -184,7 +184,23 @@ pub(crate) fn plan_cones(
     let planned = if points.is_empty() || poses.is_empty() {
         None
     } else {
-        create_view_cones_zoomed(&points, &poses, &camera, range, zooms, los).ok()
+        // Views weighed by what the session will pay for them: processing, and the walk to a
+        // new standpoint from the robot or the standpoints already chosen (the weighted greedy
+        // of `avs_view::create_view_cones_costed`). The paper's greedy, which counts views
+        // alone, put a room's 16 cones on 6 to 8 standpoints and walked the room over twice.
+        //
+        // Points count bare (`point_radius` 0), as the paper's do. Counting a point covered
+        // only with its whole lattice cell in view found objects the bare count misses near
+        // the image border at close range, but it leaves a zoomed view (a narrow field at
+        // short range) almost no cell to cover: the coverage before giving up then looked
+        // through one or two points per cone until it ran out of actions (BENCHMARKS.md).
+        let costs = CoverOptions {
+            point_radius: 0.0,
+            per_view: cx.config.process_cost.max(f64::MIN_POSITIVE),
+            per_metre: cx.config.travel_cost_per_m,
+            from: Some(mem.at),
+        };
+        create_view_cones_costed(&points, &poses, &camera, range, zooms, costs, los).ok()
     };
     Some(match planned {
         Some(mut p) => {
