@@ -130,7 +130,15 @@ fn knowledge_for_cross_checks(
         if !path.is_file() {
             anyhow::bail!("--knowledge {}: no such file", path.display());
         }
-        return match avs_format::load_yaml::<Knowledge>(path) {
+        // Read and parsed as a knowledge input is, so that a missing field names its section's
+        // fields here too.
+        let parsed = avs_format::load::read_text(path).and_then(|text| {
+            avs_format::load::load_yaml_str_explained::<Knowledge>(
+                &path.display().to_string(),
+                &text,
+            )
+        });
+        return match parsed {
             Ok(k) => Ok(Some(k)),
             Err(e) => {
                 problems.extend(e.diagnostics);
