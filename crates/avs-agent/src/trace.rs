@@ -7,6 +7,7 @@
 //! written as the same words in text and JSON; a camera action carries its view ([`View`]) as
 //! numbers, so tools need not read them back out of the listing line.
 
+use avs_concepts::RoomId;
 use schemars::gen::SchemaGenerator;
 use schemars::schema::Schema;
 use schemars::JsonSchema;
@@ -115,6 +116,24 @@ pub struct View {
     pub zoom: f64,
 }
 
+/// How many landmarks of a class a look around saw.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+pub struct LandmarkCount {
+    /// The landmark class.
+    pub class: String,
+    /// How many were seen (at least one).
+    pub count: u32,
+}
+
+/// One room category's probability.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+pub struct CategoryBelief {
+    /// The room category (as the knowledge file names it).
+    pub category: String,
+    /// P(the room is of this category).
+    pub p: f64,
+}
+
 /// One event of the plan trace.
 #[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
 #[serde(tag = "event", rename_all = "snake_case")]
@@ -159,6 +178,20 @@ pub enum Event {
     Observed {
         /// A description.
         what: String,
+    },
+    /// The robot looked around on entering a room: the landmarks it saw there and the room's
+    /// category distribution afterwards (`002` §III-A, eq. 1).
+    LookedAround {
+        /// The agent's room id (the `roomN` of plans).
+        room: u64,
+        /// Where the robot stood `[x, y]`, metres (so that a simulation can name the true room).
+        at: [f64; 2],
+        /// Landmarks seen, by class (classes seen at least once, in name order).
+        landmarks: Vec<LandmarkCount>,
+        /// Views of the pan that failed.
+        failed_views: usize,
+        /// The room's category distribution, in the knowledge file's order.
+        categories: Vec<CategoryBelief>,
     },
     /// An assumption of the plan held.
     AssumptionConfirmed {
@@ -272,6 +305,37 @@ impl Event {
                 xy(&pose[..2])
             ),
             Event::Observed { what } => format!("  * {what}\n"),
+            Event::LookedAround {
+                room,
+                landmarks,
+                failed_views,
+                categories,
+                ..
+            } => {
+                let seen = if landmarks.is_empty() {
+                    "no landmarks".to_string()
+                } else {
+                    let v: Vec<String> = landmarks
+                        .iter()
+                        .map(|l| format!("{} x{}", l.class, l.count))
+                        .collect();
+                    v.join(", ")
+                };
+                let failed = if *failed_views > 0 {
+                    format!(" ({failed_views} views failed)")
+                } else {
+                    String::new()
+                };
+                let beliefs: Vec<String> = categories
+                    .iter()
+                    .map(|c| format!("P({}) = {:.3}", c.category, c.p))
+                    .collect();
+                format!(
+                    "  * looked around in {}: {seen}{failed}; {}\n",
+                    crate::binding::names::room(RoomId(*room)),
+                    beliefs.join(", ")
+                )
+            }
             Event::AssumptionConfirmed {
                 assumption,
                 evidence,

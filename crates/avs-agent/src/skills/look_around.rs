@@ -4,10 +4,10 @@
 //! category (Aydemir et al. 2011, `002` §III-A, eq. 1, thinned by the look's coverage).
 
 use super::Ctx;
-use crate::binding::names;
 use crate::body::Body;
 use crate::memory::{Known, Memory};
 use crate::run::Run;
+use crate::trace::{CategoryBelief, Event, LandmarkCount};
 use crate::AgentError;
 use avs_map::geometry::wrap_angle;
 use avs_robot::{Detection, Robot, ViewCone};
@@ -130,35 +130,33 @@ pub(crate) fn look_around<R: Robot + ?Sized>(
         mem.wm.saw_objects(place, c, *n, t.look_coverage)?;
     }
     mem.looked.insert(room.0);
-    let seen: Vec<String> = counts
+    let landmarks: Vec<LandmarkCount> = counts
         .iter()
         .filter(|(_, n)| **n > 0)
-        .map(|(c, n)| format!("{c} x{n}"))
+        .map(|(c, n)| LandmarkCount {
+            class: c.clone(),
+            count: *n,
+        })
         .collect();
-    let dist_txt: Vec<String> = cx
+    let categories: Vec<CategoryBelief> = cx
         .knowledge
         .room_categories
         .iter()
         .filter_map(|c| {
             let p = mem.wm.concepts.p_category(room, c).ok()?;
-            Some(format!("P({c}) = {p:.3}"))
+            Some(CategoryBelief {
+                category: c.clone(),
+                p,
+            })
         })
         .collect();
-    run.observe(format!(
-        "looked around in {}: {}{}; {}",
-        names::room(room),
-        if seen.is_empty() {
-            "no landmarks".to_string()
-        } else {
-            seen.join(", ")
-        },
-        if failed > 0 {
-            format!(" ({failed} views failed)")
-        } else {
-            String::new()
-        },
-        dist_txt.join(", ")
-    ));
+    run.emit(Event::LookedAround {
+        room: room.0,
+        at: [pose.x, pose.y],
+        landmarks,
+        failed_views: failed,
+        categories,
+    });
     Ok(())
 }
 
@@ -206,6 +204,28 @@ mod tests {
             "{}",
             testing::text(&run)
         );
+        // The JSON event carries the same as numbers: the room, the counts, the categories.
+        let looked = run.events.iter().find_map(|e| match e {
+            Event::LookedAround {
+                room: r,
+                landmarks,
+                categories,
+                ..
+            } => Some((*r, landmarks.clone(), categories.clone())),
+            _ => None,
+        });
+        let (r, landmarks, categories) = looked.expect("a LookedAround event");
+        assert_eq!(r, room.0);
+        assert_eq!(
+            landmarks,
+            vec![LandmarkCount {
+                class: "table".into(),
+                count: 1
+            }]
+        );
+        assert_eq!(categories.len(), k.room_categories.len());
+        let total: f64 = categories.iter().map(|c| c.p).sum();
+        assert!((total - 1.0).abs() < 1e-9, "{categories:?}");
         // Every view of the pan asked for the landmark classes only, at the look's tilts.
         let views = robot.views();
         assert!(views.len() >= 2 * 8, "{} views", views.len());
