@@ -28,6 +28,9 @@ enum Command {
     Run(cmd::run::Args),
     /// Search a simulated environment for an object class; print the trace and a summary.
     Search(cmd::search::Args),
+    /// Write small working example inputs for every command into a folder, and print the
+    /// commands that use them.
+    Examples(cmd::examples::Args),
     /// Benchmark a search strategy on generated floors (success rate, SPL, path length).
     Bench(cmd::bench::Args),
     /// Check avs files (environment, knowledge, domain, scenario) and report every problem.
@@ -36,7 +39,8 @@ enum Command {
     Scenario(cmd::scenario::Args),
     /// Print the JSON Schema of an avs file kind.
     Schema(cmd::schema::Args),
-    /// Segment a complete map into rooms by door detection, and score it against ground truth.
+    /// Segment a complete map (ROS map_server YAML or avs environment) into rooms by door
+    /// detection, and score it against ground truth.
     Segment(cmd::segment::Args),
     /// Draw an environment (fully known, or after some exploration steps) as SVG.
     Render(cmd::render::Args),
@@ -86,6 +90,7 @@ fn main() -> ExitCode {
         Command::Infer(a) => cmd::infer::run(a),
         Command::Plan(a) => cmd::plan::run(a),
         Command::Pomdp(c) => cmd::pomdp::run(c),
+        Command::Examples(a) => cmd::examples::run(a),
     };
     // Usage errors (flags clap cannot parse) exit 2 from `Cli::parse`; everything a command
     // reports is about its input: exit 1 (README, "Conventions").

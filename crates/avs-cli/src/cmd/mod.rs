@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod defaults;
+pub mod examples;
 pub mod generate;
 pub mod infer;
 pub mod plan;
