@@ -13,7 +13,8 @@ pub struct Args {
     /// Write the plan trace as JSON lines to this file.
     #[arg(long)]
     pub trace_json: Option<PathBuf>,
-    /// Draw the run (world, robot trail, reported position) as SVG to this file.
+    /// Draw the run as SVG to this file: world, trail, view cones, start, end, report, false
+    /// alarms, with a title, a legend and a scale bar (`avs_sim::render::render_search`).
     #[arg(long)]
     pub svg: Option<PathBuf>,
 }

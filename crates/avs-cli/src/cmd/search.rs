@@ -45,7 +45,8 @@ pub struct Args {
     /// Write the plan trace as JSON lines to this file, flushed as events happen.
     #[arg(long)]
     pub trace_json: Option<PathBuf>,
-    /// Draw the run (world, robot trail, reported position) as SVG to this file.
+    /// Draw the run as SVG to this file: world, trail, view cones, start, end, report, false
+    /// alarms, with a title, a legend and a scale bar (`avs_sim::render::render_search`).
     #[arg(long)]
     pub svg: Option<PathBuf>,
     /// Print only the summary, as JSON.
@@ -206,7 +207,12 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
     };
     let mut write_err: Option<std::io::Error> = None;
     let stdout = std::io::stdout();
+    // Every event of the run (the `--before` searches' too), for the picture.
+    let mut events: Vec<Event> = Vec::new();
     let mut on_event = |e: &Event| {
+        if r.svg.is_some() {
+            events.push(e.clone());
+        }
         if !quiet {
             let mut out = stdout.lock();
             let _ = out.write_all(e.text().as_bytes());
@@ -257,16 +263,163 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
         return Err(anyhow!("writing the trace: {e}"));
     }
     if let Some(p) = r.svg {
-        let pic = avs_sim::render::render_search(
-            &world,
-            goal,
-            &out.trail,
-            out.summary.reported_pose,
-            avs_sim::score::SUCCESS_RADIUS,
-        );
+        let picture = search_picture(&world, goal, seed, &events, &out.trail, &out.summary);
+        let pic = avs_sim::render::render_search(&world, &picture);
         std::fs::write(p, pic).with_context(|| format!("writing {}", p.display()))?;
     }
     Ok(out.summary)
+}
+
+/// What the picture of a search shows, read from its plan trace `events`, the robot's `trail`
+/// and the summary:
+///
+/// * every `DtAction` with a view is a look (the coverage's `PROCESSVIEWCONE` actions are only
+///   counted): `PROCESSVIEWCONE` views are planned at heading 0
+///   (`avs_agent`'s view planner; the robot turns to the view's heading before looking), so
+///   their pan is the camera's world direction; a `VERIFY` look points from its standpoint at
+///   the sighting its listing line names (`VERIFY class at (x, y) from (x, y)`); the field of
+///   view is the environment camera's divided by the zoom;
+/// * a false alarm is a sighting whose `VERIFY` looks were followed by neither a session found
+///   nor a coverage look "detected and confirmed" nor a reached goal;
+/// * the agent's room beliefs come from its `LookedAround` events: the likeliest category,
+///   placed in the true room where the robot stood.
+pub fn search_picture(
+    world: &avs_sim::World,
+    goal: &str,
+    seed: u64,
+    events: &[Event],
+    trail: &[[f64; 2]],
+    summary: &Summary,
+) -> avs_sim::render::SearchPicture {
+    use avs_agent::{Outcome, SessionOutcome};
+    use avs_sim::render::{Look, LookKind, SearchPicture};
+    let hfov = world.env.camera.hfov_deg.to_radians();
+    let mut pic = SearchPicture {
+        goal: goal.to_string(),
+        seed: Some(seed),
+        path_length: summary.path_length,
+        trail: trail.to_vec(),
+        reported: summary.reported_pose,
+        ..Default::default()
+    };
+    let mut pose: Option<[f64; 3]> = None;
+    // The sighting whose VERIFY looks have not been decided yet.
+    let mut pending: Option<[f64; 2]> = None;
+    for e in events {
+        match e {
+            Event::Started { pose: p, .. } => {
+                pic.start.get_or_insert(*p);
+                pose = Some(*p);
+            }
+            Event::ActionFinished {
+                pose: p, outcome, ..
+            } => {
+                pose = Some(*p);
+                if let Some(t) = pending.take() {
+                    if *outcome != Outcome::DetectedAndConfirmed {
+                        pic.false_alarms.push(t);
+                    }
+                }
+            }
+            Event::DtSessionEnded { outcome, .. } => {
+                if let Some(t) = pending.take() {
+                    if *outcome != SessionOutcome::Found {
+                        pic.false_alarms.push(t);
+                    }
+                }
+            }
+            Event::GoalReached { .. } => pending = None,
+            Event::ActionStarted { action } if action.starts_with("PROCESSVIEWCONE") => {
+                pic.coverage_looks += 1;
+            }
+            Event::DtAction {
+                action,
+                detected,
+                view: Some(v),
+            } => {
+                let detected = detected.unwrap_or(false);
+                let label = format!(
+                    "{action}: {}",
+                    if detected { "detected" } else { "not detected" }
+                );
+                let (kind, direction) = if action.starts_with("VERIFY") {
+                    let target = numbers_after(action, " at (");
+                    let direction = match target[..] {
+                        [tx, ty, ..] => {
+                            if let Some(t) = pending.replace([tx, ty]) {
+                                if (t[0] - tx).hypot(t[1] - ty) > 1e-6 {
+                                    // A new sighting before the last was decided: it was not
+                                    // confirmed.
+                                    pic.false_alarms.push(t);
+                                }
+                            }
+                            (ty - v.y).atan2(tx - v.x)
+                        }
+                        _ => v.pan + pose.map_or(0.0, |p| p[2]),
+                    };
+                    (LookKind::Verify, direction)
+                } else {
+                    (LookKind::Cone, v.pan)
+                };
+                pic.looks.push(Look {
+                    at: [v.x, v.y],
+                    direction,
+                    hfov: hfov / v.zoom.max(1e-3),
+                    detected,
+                    kind,
+                    label,
+                });
+            }
+            Event::LookedAround { at, categories, .. } => {
+                let belief = categories
+                    .iter()
+                    .max_by(|a, b| a.p.total_cmp(&b.p))
+                    .map(|c| (c.category.clone(), c.p));
+                push_belief(world, &mut pic.room_beliefs, Some(*at), belief);
+            }
+            _ => {}
+        }
+    }
+    if let Some(t) = pending {
+        pic.false_alarms.push(t);
+    }
+    let yaw = pose.map(|p| p[2]);
+    pic.end = match (trail.last(), pose) {
+        (Some(t), _) => Some([t[0], t[1], yaw.unwrap_or(0.0)]),
+        (None, p) => p,
+    };
+    pic
+}
+
+/// Record the agent's likeliest category `belief` for the true room at `at`, if both are known.
+fn push_belief(
+    world: &avs_sim::World,
+    beliefs: &mut Vec<avs_sim::render::RoomBelief>,
+    at: Option<[f64; 2]>,
+    belief: Option<(String, f64)>,
+) {
+    let room = at.and_then(|p| world.room_at(p[0], p[1]));
+    if let (Some((category, probability)), Some(room)) = (belief, room) {
+        beliefs.push(avs_sim::render::RoomBelief {
+            room,
+            category,
+            probability,
+        });
+    }
+}
+
+/// The numbers in the parentheses after `marker` in `s` (`"at (1.00, 2.50)"` → `[1.0, 2.5]`);
+/// empty when there are none.
+fn numbers_after(s: &str, marker: &str) -> Vec<f64> {
+    s.split_once(marker)
+        .and_then(|(_, rest)| rest.split_once(')'))
+        .map(|(inside, _)| {
+            inside
+                .split(',')
+                .filter_map(|x| x.trim().parse().ok())
+                .collect()
+        })
+        .unwrap_or_default()
 }
 
 /// Run the subcommand: 0 found, 3 searched and not found, 1 invalid input (clap exits 2 for
