@@ -267,14 +267,15 @@ pub(crate) fn zoom_text(zoom: f64) -> String {
     }
 }
 
-/// A planned view as the trace shows it: "from (x, y) pan p tilt t[ zoom z]".
+/// A planned view as the trace shows it: "from (x, y) pan p° tilt t°[ zoom z]", the angles in
+/// degrees as every file of avs writes them (the JSON event's `view` keeps radians).
 pub(crate) fn view_text(v: &PlannedView) -> String {
     format!(
-        "from ({:.2}, {:.2}) pan {:.2} tilt {:.2}{}",
+        "from ({:.2}, {:.2}) pan {:.1}° tilt {:.1}°{}",
         v.pose[0],
         v.pose[1],
-        v.pan,
-        v.tilt,
+        v.pan.to_degrees(),
+        v.tilt.to_degrees(),
         zoom_text(v.zoom)
     )
 }
@@ -287,6 +288,23 @@ mod tests {
     fn a_view_reads_with_its_zoom_only_when_zoomed() {
         assert_eq!(zoom_text(1.0), "");
         assert_eq!(zoom_text(2.0), " zoom 2.0");
+    }
+
+    #[test]
+    fn a_view_reads_its_angles_in_degrees() {
+        let v = PlannedView {
+            pose_index: 0,
+            pose: [1.0, 2.5, 0.3],
+            pan: std::f64::consts::FRAC_PI_2,
+            tilt: -0.25f64.to_radians() * 40.0,
+            zoom: 2.0,
+            covered: Vec::new(),
+            newly_covered: Vec::new(),
+        };
+        assert_eq!(
+            view_text(&v),
+            "from (1.00, 2.50) pan 90.0° tilt -10.0° zoom 2.0"
+        );
     }
 }
 
