@@ -205,6 +205,12 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
         )),
         None => None,
     };
+    let (k, d) = (knowledge.knowledge()?, domain.domain()?);
+    // The environment gets `avs validate --knowledge`'s checks, class names included.
+    let world = env.edited_world(Some(&k), &r.edits, |f| match f {
+        EditField::CloseDoor(i) => format!("--close-door #{}", i + 1),
+        EditField::RemoveClass(i) | EditField::RemoveId(i) => format!("--remove #{}", i + 1),
+    })?;
     let mut write_err: Option<std::io::Error> = None;
     let stdout = std::io::stdout();
     // Every event of the run (the `--before` searches' too), for the picture.
@@ -216,6 +222,20 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
         if !quiet {
             let mut out = stdout.lock();
             let _ = out.write_all(e.text().as_bytes());
+            // In simulation the agent's rooms can be named: the true room the robot stood in
+            // when it looked around (the agent itself never sees the truth).
+            if let Event::LookedAround { room, at, .. } = e {
+                if let Some(t) = world
+                    .room_at(at[0], at[1])
+                    .and_then(|i| world.env.rooms.get(i))
+                {
+                    let _ = writeln!(
+                        out,
+                        "    (truth: room{room} is in `{}`, a {})",
+                        t.name, t.category
+                    );
+                }
+            }
             let _ = out.flush();
         }
         if let Some(f) = file.as_mut() {
@@ -225,12 +245,6 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
             }
         }
     };
-    let (k, d) = (knowledge.knowledge()?, domain.domain()?);
-    // The environment gets `avs validate --knowledge`'s checks, class names included.
-    let world = env.edited_world(Some(&k), &r.edits, |f| match f {
-        EditField::CloseDoor(i) => format!("--close-door #{}", i + 1),
-        EditField::RemoveClass(i) | EditField::RemoveId(i) => format!("--remove #{}", i + 1),
-    })?;
     for class in r.before.iter().chain([&goal.to_string()]) {
         anyhow::ensure!(
             k.class(class).is_some(),
