@@ -100,18 +100,18 @@ impl JsonSchema for SessionOutcome {
     }
 }
 
-/// A camera view: where the robot stood and how the camera pointed (radians, as the
-/// `Robot` trait takes them).
+/// A camera view: where the robot stood and how the camera pointed (degrees, as every file of
+/// avs writes angles; the `Robot` trait takes radians).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, JsonSchema)]
 pub struct View {
     /// x of the robot, metres.
     pub x: f64,
     /// y of the robot, metres.
     pub y: f64,
-    /// Pan, radians relative to the robot's heading.
-    pub pan: f64,
-    /// Tilt, radians (negative looks down).
-    pub tilt: f64,
+    /// Pan, degrees relative to the robot's heading.
+    pub pan_deg: f64,
+    /// Tilt, degrees (negative looks down).
+    pub tilt_deg: f64,
     /// Zoom factor.
     pub zoom: f64,
 }
@@ -225,6 +225,9 @@ pub enum Event {
         /// The view, for a look (PROCESSVIEWCONE, VERIFY).
         #[serde(skip_serializing_if = "Option::is_none")]
         view: Option<View>,
+        /// For a VERIFY look, the sighting it looks at `[x, y]`, metres.
+        #[serde(skip_serializing_if = "Option::is_none")]
+        target: Option<[f64; 2]>,
     },
     /// A DT session ended.
     DtSessionEnded {

@@ -198,10 +198,11 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                         view: Some(View {
                             x: v.pose[0],
                             y: v.pose[1],
-                            pan: v.pan,
-                            tilt: v.tilt,
+                            pan_deg: v.pan.to_degrees(),
+                            tilt_deg: v.tilt.to_degrees(),
                             zoom: v.zoom,
                         }),
+                        target: None,
                     });
                     steps += 1;
                     if session.observe(detected).is_err() {
@@ -213,6 +214,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                         action: format!("DECLARE-FOUND cone {cone}"),
                         detected: None,
                         view: None,
+                        target: None,
                     });
                     if let Some(d) = best[cone].clone() {
                         let checked = body.with_activity(Activity::Verification, |b| {
@@ -230,6 +232,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                         action: "DECLARE-ABSENT".into(),
                         detected: None,
                         view: None,
+                        target: None,
                     });
                     break;
                 }

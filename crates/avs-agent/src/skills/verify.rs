@@ -132,10 +132,11 @@ pub(crate) fn verify<R: Robot + ?Sized>(
             view: Some(View {
                 x: pose.x,
                 y: pose.y,
-                pan,
-                tilt,
+                pan_deg: pan.to_degrees(),
+                tilt_deg: tilt.to_degrees(),
                 zoom,
             }),
+            target: Some([target[0], target[1]]),
         });
         if let Some(e) = seen {
             hits += 1;

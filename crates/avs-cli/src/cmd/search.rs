@@ -350,30 +350,27 @@ pub fn search_picture(
                 action,
                 detected,
                 view: Some(v),
+                target,
             } => {
                 let detected = detected.unwrap_or(false);
                 let label = format!(
                     "{action}: {}",
                     if detected { "detected" } else { "not detected" }
                 );
-                let (kind, direction) = if action.starts_with("VERIFY") {
-                    let target = numbers_after(action, " at (");
-                    let direction = match target[..] {
-                        [tx, ty, ..] => {
-                            if let Some(t) = pending.replace([tx, ty]) {
-                                if (t[0] - tx).hypot(t[1] - ty) > 1e-6 {
-                                    // A new sighting before the last was decided: it was not
-                                    // confirmed.
-                                    pic.false_alarms.push(t);
-                                }
+                let pan = v.pan_deg.to_radians();
+                let (kind, direction) = match target {
+                    // A verification look points at the sighting it checks.
+                    Some([tx, ty]) => {
+                        if let Some(t) = pending.replace([*tx, *ty]) {
+                            if (t[0] - tx).hypot(t[1] - ty) > 1e-6 {
+                                // A new sighting before the last was decided: it was not
+                                // confirmed.
+                                pic.false_alarms.push(t);
                             }
-                            (ty - v.y).atan2(tx - v.x)
                         }
-                        _ => v.pan + pose.map_or(0.0, |p| p[2]),
-                    };
-                    (LookKind::Verify, direction)
-                } else {
-                    (LookKind::Cone, v.pan)
+                        (LookKind::Verify, (ty - v.y).atan2(tx - v.x))
+                    }
+                    None => (LookKind::Cone, pan),
                 };
                 pic.looks.push(Look {
                     at: [v.x, v.y],
@@ -420,20 +417,6 @@ fn push_belief(
             probability,
         });
     }
-}
-
-/// The numbers in the parentheses after `marker` in `s` (`"at (1.00, 2.50)"` → `[1.0, 2.5]`);
-/// empty when there are none.
-fn numbers_after(s: &str, marker: &str) -> Vec<f64> {
-    s.split_once(marker)
-        .and_then(|(_, rest)| rest.split_once(')'))
-        .map(|(inside, _)| {
-            inside
-                .split(',')
-                .filter_map(|x| x.trim().parse().ok())
-                .collect()
-        })
-        .unwrap_or_default()
 }
 
 /// Run the subcommand: 0 found, 3 searched and not found, 1 invalid input (clap exits 2 for
