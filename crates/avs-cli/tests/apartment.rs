@@ -9,12 +9,13 @@ const KNOWLEDGE: &str = "knowledge/home.yaml";
 #[test]
 fn the_guides_apartment_validates_against_the_home_knowledge() {
     let out = common::avs(&["validate", ENV, "--knowledge", KNOWLEDGE]);
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{text}{}",
+    // The verdict line goes to stderr, the diagnostics (none here) to stdout.
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
+    assert!(out.status.success(), "{text}");
     assert!(text.contains("1 file(s) valid"), "{text}");
 }
 
