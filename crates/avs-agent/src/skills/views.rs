@@ -268,7 +268,7 @@ pub(crate) fn zoom_text(zoom: f64) -> String {
 }
 
 /// A planned view as the trace shows it: "from (x, y) pan p° tilt t°[ zoom z]", the angles in
-/// degrees as every file of avs writes them (the JSON event's `view` keeps radians).
+/// degrees as every file of avs writes them (and as the JSON event's `view` carries them).
 pub(crate) fn view_text(v: &PlannedView) -> String {
     format!(
         "from ({:.2}, {:.2}) pan {:.1}° tilt {:.1}°{}",
@@ -296,7 +296,7 @@ mod tests {
             pose_index: 0,
             pose: [1.0, 2.5, 0.3],
             pan: std::f64::consts::FRAC_PI_2,
-            tilt: -0.25f64.to_radians() * 40.0,
+            tilt: (-10f64).to_radians(),
             zoom: 2.0,
             covered: Vec::new(),
             newly_covered: Vec::new(),
