@@ -1,20 +1,9 @@
 //! `avs search`: the SVG picture of a run and the fault-injection flags.
 
 mod common;
-use common::avs;
+use common::{avs, OFFICE_SEARCH as OFFICE};
 
 use std::process::Command;
-
-const OFFICE: [&str; 8] = [
-    "search",
-    "--env",
-    "domains/environments/office.yaml",
-    "--knowledge",
-    "knowledge/office.yaml",
-    "--domain",
-    "domains/object_search.yaml",
-    "--json",
-];
 
 #[test]
 fn svg_of_a_search_draws_the_trail_and_the_reported_position() {

@@ -14,24 +14,18 @@ fn the_search_picture_shows_every_look_of_the_trace_and_says_what_it_shows() {
     let dir = std::env::temp_dir().join(format!("avs-search-picture-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let (svg, trace) = (dir.join("run.svg"), dir.join("run.jsonl"));
-    let out = avs(&[
-        "search",
-        "--env",
-        "domains/environments/office.yaml",
-        "--knowledge",
-        "knowledge/office.yaml",
-        "--domain",
-        "domains/object_search.yaml",
+    let mut args = common::OFFICE_SEARCH.to_vec();
+    args.extend([
         "--goal",
         "cerealbox",
         "--seed",
         "1",
-        "--json",
         "--svg",
         svg.to_str().unwrap(),
         "--trace-json",
         trace.to_str().unwrap(),
     ]);
+    let out = avs(&args);
     let summary: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON summary");
     // The svg crate writes a text element's content on a line of its own.
     let pic = std::fs::read_to_string(&svg)

@@ -227,21 +227,41 @@ fn office_with_a_marker_on_the_floor() -> World {
 /// seeds each; with the view planning weighing the walk, 7 (the marker) and 5 (the stapler).
 const COVERAGE_SEEDS: std::ops::RangeInclusive<u64> = 1..=8;
 
-#[test]
-fn a_small_object_on_the_floor_is_found_by_zoomed_coverage_and_verified() {
-    let world = office_with_a_marker_on_the_floor();
+/// Search `world` for `goal` on every seed of [`COVERAGE_SEEDS`] with two plans before the
+/// coverage, check every report with `check(seed, report, found)`, and assert that the object is
+/// found more often than not; `what` names it in the messages.
+fn found_more_often_than_not(
+    world: &World,
+    goal: &str,
+    what: &str,
+    check: impl Fn(u64, &SearchReport, &avs_agent::FoundObject),
+) {
     let mut found_on = Vec::new();
     for seed in COVERAGE_SEEDS {
         let config = AgentConfig {
             max_plans: 2,
             ..AgentConfig::default()
         };
-        let r = search_with(&world, seed, config, "whiteboardmarker");
+        let r = search_with(world, seed, config, goal);
         assert!(covered_after_giving_up(&r), "seed {seed}: {}", r.reason);
         let Some(found) = r.found.as_ref() else {
-            eprintln!("seed {seed}: the marker is not found: {}", r.reason);
+            eprintln!("seed {seed}: the {what} is not found: {}", r.reason);
             continue;
         };
+        check(seed, &r, found);
+        found_on.push(seed);
+    }
+    let n = COVERAGE_SEEDS.count();
+    assert!(
+        2 * found_on.len() > n,
+        "the {what} is found on {found_on:?} of {n} seeds: not more often than not"
+    );
+}
+
+#[test]
+fn a_small_object_on_the_floor_is_found_by_zoomed_coverage_and_verified() {
+    let world = office_with_a_marker_on_the_floor();
+    found_more_often_than_not(&world, "whiteboardmarker", "marker", |seed, r, found| {
         // Whatever is reported is the marker, on the floor.
         let err = (found.pose.x - 9.0).hypot(found.pose.y - 6.3);
         assert!(
@@ -267,13 +287,7 @@ fn a_small_object_on_the_floor_is_found_by_zoomed_coverage_and_verified() {
             e,
             Event::DtAction { action, detected: Some(true), .. } if action.starts_with("VERIFY")
         )));
-        found_on.push(seed);
-    }
-    let n = COVERAGE_SEEDS.count();
-    assert!(
-        2 * found_on.len() > n,
-        "the marker is found on {found_on:?} of {n} seeds: not more often than not"
-    );
+    });
 }
 
 /// The office with office2's meeting table pushed against the corridor wall, east of the door,
@@ -312,18 +326,7 @@ fn a_stapler_at_the_back_of_a_table_in_a_room_first_entered_by_the_coverage_is_f
     // around there (without it the table stays unknown and its top unlooked) and finds the
     // stapler on the table, more often than not (see `COVERAGE_SEEDS`).
     let world = office_with_a_stapler_at_the_back_of_a_table();
-    let mut found_on = Vec::new();
-    for seed in COVERAGE_SEEDS {
-        let config = AgentConfig {
-            max_plans: 2,
-            ..AgentConfig::default()
-        };
-        let r = search_with(&world, seed, config, "stapler");
-        assert!(covered_after_giving_up(&r), "seed {seed}: {}", r.reason);
-        let Some(found) = r.found.as_ref() else {
-            eprintln!("seed {seed}: the stapler is not found: {}", r.reason);
-            continue;
-        };
+    found_more_often_than_not(&world, "stapler", "stapler", |seed, _, found| {
         // Whatever is reported is the stapler, on the table.
         let err = (found.pose.x - 10.9).hypot(found.pose.y - 2.85);
         assert!(
@@ -336,13 +339,7 @@ fn a_stapler_at_the_back_of_a_table_in_a_room_first_entered_by_the_coverage_is_f
             "seed {seed}: reported at height {}",
             found.pose.z
         );
-        found_on.push(seed);
-    }
-    let n = COVERAGE_SEEDS.count();
-    assert!(
-        2 * found_on.len() > n,
-        "the stapler is found on {found_on:?} of {n} seeds: not more often than not"
-    );
+    });
 }
 
 #[test]

@@ -967,19 +967,25 @@ fn cross_data(x: f64, y: f64, r: f64) -> Data {
         .line_to((x + r, y - r))
 }
 
-fn start_symbol(x: f64, y: f64, yaw: Option<f64>) -> Group {
-    let mut g = Group::new();
-    if let Some(yaw) = yaw {
-        g = g.add(
+/// A group holding, when the heading `yaw` is known, a short line from `(x, y)` along it.
+fn heading_mark(x: f64, y: f64, yaw: Option<f64>, colour: &str) -> Group {
+    let g = Group::new();
+    match yaw {
+        Some(yaw) => g.add(
             Line::new()
                 .set("x1", x)
                 .set("y1", y)
                 .set("x2", x + 14.0 * yaw.cos())
                 .set("y2", y - 14.0 * yaw.sin())
-                .set("stroke", START)
+                .set("stroke", colour)
                 .set("stroke-width", 3),
-        );
+        ),
+        None => g,
     }
+}
+
+fn start_symbol(x: f64, y: f64, yaw: Option<f64>) -> Group {
+    let g = heading_mark(x, y, yaw, START);
     g.add(
         Circle::new()
             .set("cx", x)
@@ -997,18 +1003,7 @@ fn start_symbol(x: f64, y: f64, yaw: Option<f64>) -> Group {
 }
 
 fn end_symbol(x: f64, y: f64, yaw: Option<f64>) -> Group {
-    let mut g = Group::new();
-    if let Some(yaw) = yaw {
-        g = g.add(
-            Line::new()
-                .set("x1", x)
-                .set("y1", y)
-                .set("x2", x + 14.0 * yaw.cos())
-                .set("y2", y - 14.0 * yaw.sin())
-                .set("stroke", END)
-                .set("stroke-width", 3),
-        );
-    }
+    let g = heading_mark(x, y, yaw, END);
     g.add(
         Rectangle::new()
             .set("x", x - 7.5)

@@ -21,3 +21,17 @@ pub fn avs_in(dir: &Path, args: &[&str]) -> Output {
         .output()
         .expect("the avs binary runs")
 }
+
+/// `avs search` on the shipped office, knowledge and domain, printing the JSON summary: the
+/// start of the search tests' command lines.
+#[allow(dead_code, reason = "not every test file searches the office")]
+pub const OFFICE_SEARCH: [&str; 8] = [
+    "search",
+    "--env",
+    "domains/environments/office.yaml",
+    "--knowledge",
+    "knowledge/office.yaml",
+    "--domain",
+    "domains/object_search.yaml",
+    "--json",
+];
