@@ -69,6 +69,13 @@ impl Agent {
         })
     }
 
+    /// The agent's place map (places, paths, door hypotheses; its rooms by
+    /// [`PlaceMap::rooms`](avs_map::places::PlaceMap::rooms)) as the last search left it, or
+    /// `None` before the first search.
+    pub fn place_map(&self) -> Option<&avs_map::places::PlaceMap> {
+        self.memory.as_ref().map(|m| &m.wm.places)
+    }
+
     /// Search for `goal` with `robot`; the trace is returned in the report.
     pub fn search<R: Robot + ?Sized>(
         &mut self,

@@ -103,9 +103,15 @@
 //!   path), turn around, and visit the new room's nearby placeholders (at most 3): the
 //!   assumption gives a new room no open placeholders.
 //! * **Looking around** on entering a room: a pan over the full circle at two tilts for the
-//!   landmark classes; new landmarks seen in the same room (no wall or door hypothesis on the
-//!   sight line) become in/on locations, and the counts are object-count evidence on the room's
-//!   category with a coverage of 0.8 (eq. 1 thinned).
+//!   landmark classes; new landmarks seen in the same room become in/on locations, and the
+//!   counts of instances no earlier look around counted are object-count evidence on the
+//!   room's category with a coverage of 0.8 (eq. 1 thinned, and thinned again by the earlier
+//!   looks: `avs_concepts`' *Object counts*). A sighting is in the same room when the sight
+//!   line crosses no door hypothesis and the floor where it leaves the sighting (the first
+//!   known free cell back towards the robot) is the robot's room: a counter seen over a table
+//!   is, one seen through a doorway is not. (A sight line checked on the planar map, where the
+//!   table is an obstacle, took the counter for one in another room and the kitchen for a
+//!   corridor.)
 //! * **Search IN a landmark** (`002` §II-B.1's related space L_o, the `in` rates of the
 //!   knowledge): `ASSUME-OBJECT-EXISTS l IN lm lc c`, `CREATEVIEWCONES l IN lm` and
 //!   `SEARCHFOROBJECT l IN lm o` on a found landmark, with the cones planned over a grid of its
@@ -123,7 +129,10 @@
 //!   the known map stopping short of furniture footprints, or, for a point resting on known
 //!   furniture, where the line reaches the disc its footprint may cover: the camera looks over
 //!   a table's edge onto its top — a 2½-D sight line, our choice, the papers' maps are
-//!   planar). The prior P(ObjectAt L) is spread
+//!   planar). A landmark's top or interior is looked at from standpoints in the room whose
+//!   floor surrounds it (`Memory::room_around`): the disc reaches through the wall behind a
+//!   counter standing against it, and a standpoint in the next room cost a walk out and back
+//!   for a view that saw nothing. The prior P(ObjectAt L) is spread
 //!   uniformly over the location's points the cones cover (spread over all points, a room
 //!   covered to 40% was declared empty after one look, hardly thinned, and searched again and
 //!   again until the plan budget ran out); for an object the plan assumes, it is floored at 0.8

@@ -29,9 +29,21 @@
 //! * **Object counts.** Objects follow independent Poisson processes over cells (§III-A,
 //!   assumptions 1–3). From a place the robot counts n *new* instances of class c, having looked
 //!   at a share s of the room; under category k the count is Poisson with rate
-//!   s · (p_d · λ_{k,c} + λ_fp) — the thinned process plus spurious counts (p_d and λ_fp from
-//!   `object_count_observation`). Counts from different places multiply, which is exact when the
-//!   looked-at shares are disjoint (the caller's duty).
+//!   s · (p_d · λ_{k,c} · U + λ_fp) — the thinned process plus spurious counts (p_d and λ_fp from
+//!   `object_count_observation`) — where U = Π_j (1 − s_j p_d) over the room's earlier counts of
+//!   c. Our choice where the paper is vague (it counts from one look): a room's instances are
+//!   one Poisson population, and a later look can only add those every earlier look missed.
+//!   Each look finding each instance independently with s_j p_d, the instances *first* found
+//!   by look i are Poisson with rate s_i p_d λ U_i, independent across looks (Poisson
+//!   splitting), so the product of the looks' terms is the exact likelihood of the distinct
+//!   instances found; which look re-found which instance does not depend on the category. (Each
+//!   look counted as a fresh Poisson draw, a second look around a kitchen from where its
+//!   counter is out of sight was as strong evidence against the kitchen as the first look was
+//!   for it: P(kitchen) 0.87 → 0.57 on the default office; counting the known instances seen
+//!   again as new would count the same counter twice.) The caller counts each instance once, in
+//!   the look that first saw it. The instances no look found are what a later search can find:
+//!   a room's rate of class c is thinned by U as by a failed search (a look around that saw
+//!   no shelf leaves 1 − 0.64 of the rate, not all of it, for a search to hunt).
 //! * **P(ObjectAt L)** (eq. 1–2): Σ_k P(k | room) (1 − exp(−λ_{L,c,k})). A room's rate is its own
 //!   rate plus the rates of every known landmark location in it (rates add over the hierarchy,
 //!   §III-A); a landmark location's rate is λ(object, relation, landmark class, k).

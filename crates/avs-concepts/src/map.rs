@@ -14,8 +14,21 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 struct PlaceObs {
     /// (property, soft evidence over its values)
     properties: Vec<(usize, Vec<f64>)>,
-    /// (class, count of new instances, looked-at share of the room)
-    counts: Vec<(usize, u32, f64)>,
+    /// The object counts made from this place.
+    counts: Vec<CountObs>,
+}
+
+/// One look's count of instances of a class not counted before (see
+/// [`ConceptualMap::observe_objects`]).
+#[derive(Debug, Clone, Copy)]
+struct CountObs {
+    /// When it was made, in the map's count order: the looks before it thin its rate.
+    seq: u64,
+    class: usize,
+    /// Instances first counted in this look.
+    new: u32,
+    /// The looked-at share of the room.
+    coverage: f64,
 }
 
 #[derive(Debug, Clone, Default)]
@@ -74,6 +87,8 @@ pub struct ConceptualMap {
     landmarks: BTreeMap<LandmarkId, LandmarkState>,
     placeholders: BTreeMap<PlaceholderId, Placeholder>,
     next_landmark: u64,
+    /// Sequence number of the next count observation.
+    next_count: u64,
     opts: MapBpOptions,
     mrf: PairwiseMrf,
     node_ids: Vec<RoomId>,
@@ -130,6 +145,7 @@ impl ConceptualMap {
             landmarks: BTreeMap::new(),
             placeholders: BTreeMap::new(),
             next_landmark: 0,
+            next_count: 0,
             opts: MapBpOptions::default(),
             mrf: PairwiseMrf::default(),
             node_ids: Vec::new(),
@@ -417,9 +433,11 @@ impl ConceptualMap {
     }
 
     /// From `place`, the robot counted `count` instances of `class` in `room` that it had not
-    /// counted before, looking at a share `coverage` ∈ (0, 1] of the room. The count is
-    /// Poisson with rate `coverage · (p_d · λ_{k,class} + λ_fp)` under category k (thinning of
-    /// eq. 1 over the looked-at cells, plus spurious counts).
+    /// counted before, looking at a share `coverage` ∈ (0, 1] of the room. Under category k the
+    /// count is Poisson with rate `s · (p_d · λ_{k,class} · U + λ_fp)` (thinning of eq. 1 over
+    /// the looked-at cells, plus spurious counts), where `U = Π (1 − s_j · p_d)` over the
+    /// room's earlier counts of the class: only instances every earlier look missed can be new
+    /// (see the crate docs, *Object counts*).
     pub fn observe_objects(
         &mut self,
         room: RoomId,
@@ -436,12 +454,19 @@ impl ConceptualMap {
                 expected: "a share of the room in (0, 1]",
             });
         }
+        let seq = self.next_count;
         self.room_mut(room)?
             .places
             .entry(place)
             .or_default()
             .counts
-            .push((c, count, coverage));
+            .push(CountObs {
+                seq,
+                class: c,
+                new: count,
+                coverage,
+            });
+        self.next_count += 1;
         self.refresh_room(room)
     }
 
@@ -527,21 +552,32 @@ impl ConceptualMap {
                     *uk += s.ln();
                 }
             }
-            for &(c, n, cov) in &o.counts {
-                let term: Vec<f64> = (0..kc)
-                    .map(|k| {
-                        ln_poisson(
-                            n,
-                            cov * (m.count_detection * m.room_rates[c][k] + m.count_false_positive),
-                        )
-                    })
-                    .collect();
-                if term.iter().all(|x| *x == f64::NEG_INFINITY) {
-                    tracing::warn!(class = %m.classes[c], n, "count impossible under every category; ignored");
-                    continue;
-                }
-                u.iter_mut().zip(term).for_each(|(a, b)| *a += b);
+        }
+        // Object counts, per class in the order they were made: look i's new instances are
+        // those it found and every earlier look missed.
+        let mut counts: Vec<&CountObs> = st.places.values().flat_map(|o| &o.counts).collect();
+        counts.sort_by_key(|o| (o.class, o.seq));
+        let mut unseen = 1.0; // Π (1 − s_j p_d) over the class's earlier looks
+        for (i, o) in counts.iter().enumerate() {
+            if i == 0 || counts[i - 1].class != o.class {
+                unseen = 1.0;
             }
+            let (c, cov) = (o.class, o.coverage);
+            let term: Vec<f64> = (0..kc)
+                .map(|k| {
+                    ln_poisson(
+                        o.new,
+                        cov * (m.count_detection * m.room_rates[c][k] * unseen
+                            + m.count_false_positive),
+                    )
+                })
+                .collect();
+            unseen *= 1.0 - cov * m.count_detection;
+            if term.iter().all(|x| *x == f64::NEG_INFINITY) {
+                tracing::warn!(class = %m.classes[c], n = o.new, "count impossible under every category; ignored");
+                continue;
+            }
+            u.iter_mut().zip(term).for_each(|(a, b)| *a += b);
         }
         // Failed searches: exp(−λ_k (1 − t)) for each searched location.
         for (&c, &t) in &st.searched {
@@ -692,7 +728,9 @@ impl ConceptualMap {
     }
 
     /// The current (thinned) rate of `class` at `location` under each category: for a room,
-    /// its own rate plus every landmark location in it (rates add, §III-A).
+    /// its own rate of instances not found yet (thinned by failed searches and by the looks
+    /// that counted the class, `Π (1 − s_j p_d)`: see the crate docs, *Object counts*) plus
+    /// every landmark location in it (rates add, §III-A).
     pub fn rates(&self, location: Location, class: &str) -> Result<Vec<f64>, ConceptError> {
         let c = self.model.class(class)?;
         let m = &self.model;
@@ -713,7 +751,17 @@ impl ConceptualMap {
         match location {
             Location::Room(r) => {
                 let st = self.room(r)?;
-                let t = st.searched.get(&c).copied().unwrap_or(1.0);
+                // Instances not found yet: thinned by failed searches and by the looks that
+                // counted the class (what they counted is known; what is left, each of them
+                // missed).
+                let looks: f64 = st
+                    .places
+                    .values()
+                    .flat_map(|o| &o.counts)
+                    .filter(|o| o.class == c)
+                    .map(|o| 1.0 - o.coverage * m.count_detection)
+                    .product();
+                let t = st.searched.get(&c).copied().unwrap_or(1.0) * looks;
                 let mut out: Vec<f64> = m.room_rates[c].iter().map(|x| t * x).collect();
                 for l in &st.landmarks {
                     let add = lm_rates(l, &[Relation::In, Relation::On])?;

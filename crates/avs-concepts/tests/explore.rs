@@ -385,3 +385,63 @@ fn when_bp_does_not_converge_small_maps_fall_back_to_exact_inference() {
         assert_eq!(map.category_distribution(*r).unwrap(), ex[i]);
     }
 }
+
+/// A second look around a room counts only the instances every earlier look missed: the
+/// instances first found by look i are Poisson with rate s_i · p_d · λ_k · Π_{j<i}(1 − s_j p_d)
+/// (crate docs, *Object counts*). Computed here by hand for one room: a counter seen by the
+/// first look, none new in the second. As two fresh Poisson draws the empty second look would
+/// weigh as much as the first.
+#[test]
+fn a_second_look_counts_only_what_the_first_missed() {
+    let k = office_knowledge();
+    let mut map = ConceptualMap::new("office.yaml", &k).unwrap();
+    map.add_room(KITCHEN).unwrap();
+    let (s1, s2) = (0.8, 0.6);
+    map.observe_objects(KITCHEN, PlaceId(1), "counter", 1, s1)
+        .unwrap();
+    let after_first = map.category_distribution(KITCHEN).unwrap();
+    map.observe_objects(KITCHEN, PlaceId(2), "counter", 0, s2)
+        .unwrap();
+    let after_second = map.category_distribution(KITCHEN).unwrap();
+
+    let m = map.model();
+    let (pd, fp, prior) = (m.count_detection, m.count_false_positive, m.prior.clone());
+    let c = m.classes.iter().position(|c| c == "counter").unwrap();
+    let counter = m.room_rates[c].clone();
+    let kitchen = m.categories.iter().position(|c| c == "kitchen").unwrap();
+    // `thin`: whether a look's rate is thinned by the looks before it.
+    let expect = |looks: &[(u32, f64)], thin: bool| -> Vec<f64> {
+        let mut post: Vec<f64> = (0..prior.len())
+            .map(|c| {
+                let mut unseen = 1.0;
+                let mut lik = prior[c];
+                for &(n, s) in looks {
+                    let rate = s * (pd * counter[c] * unseen + fp);
+                    lik *= rate.powi(n as i32) * (-rate).exp(); // n ≤ 1: n! = 1
+                    if thin {
+                        unseen *= 1.0 - s * pd;
+                    }
+                }
+                lik
+            })
+            .collect();
+        let z: f64 = post.iter().sum();
+        post.iter_mut().for_each(|p| *p /= z);
+        post
+    };
+    for (got, want) in [
+        (&after_first, expect(&[(1, s1)], true)),
+        (&after_second, expect(&[(1, s1), (0, s2)], true)),
+    ] {
+        for (g, w) in got.iter().zip(&want) {
+            assert!((g - w).abs() < 1e-9, "{got:?} vs {want:?}");
+        }
+    }
+    // The empty second look still speaks against the kitchen, but less than a fresh draw.
+    let fresh = expect(&[(1, s1), (0, s2)], false);
+    assert!(after_second[kitchen] < after_first[kitchen]);
+    assert!(
+        after_second[kitchen] > fresh[kitchen] + 0.01,
+        "{after_second:?} vs {fresh:?}"
+    );
+}

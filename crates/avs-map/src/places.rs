@@ -25,8 +25,12 @@
 //!   place graph rather than for laser frontiers alone. A placeholder seen through a door — the
 //!   straight line from the place it hangs off crosses the door's line at the opening or within a
 //!   metre beyond a jamb — lies in the room behind that door, so its door distance is 0.
-//! * **Rooms** are the connected components of the place graph once door places are cut out.
-//!   Each room is named by its smallest place index, so names are stable while it grows.
+//! * **Rooms** are the connected components of the place graph once door places are cut out,
+//!   with the neighbours of a door place on the same side of its opening in one room: the robot
+//!   that walked from the corridor to a door and from the door along the corridor left two
+//!   corridor places joined only through the door place, and the corridor was two rooms at
+//!   some cell sizes and one at others. Each room is named by its smallest place index, so
+//!   names are stable while it grows.
 
 use crate::doors::{detect_doors, DoorHypothesis, DoorParams};
 use crate::grid::{Cell, OccupancyGrid};
@@ -396,6 +400,61 @@ impl PlaceMap {
                 id: places[0].index(),
                 places,
             });
+        }
+        // A door separates its two sides, not the places on one side: two neighbours of a door
+        // place on the same side of its opening are in one room even when no path joins them
+        // except through the door place (the robot walked from one to the door and from the
+        // door to the other; a corridor split in two at every door otherwise).
+        let mut parent: Vec<usize> = (0..rooms.len()).collect();
+        fn root(parent: &mut [usize], mut k: usize) -> usize {
+            while parent[k] != k {
+                parent[k] = parent[parent[k]];
+                k = parent[k];
+            }
+            k
+        }
+        for n in self.graph.node_indices() {
+            let Some(h) = self.graph[n].door.and_then(|d| self.doors.get(d)) else {
+                continue;
+            };
+            let [a, b] = h.hypothesis.jambs;
+            let side =
+                |p: [f64; 2]| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]) >= 0.0;
+            let mut first: [Option<usize>; 2] = [None, None];
+            for m in self.graph.neighbors(n) {
+                let Some(&k) = comp.get(&m) else { continue };
+                let s = usize::from(side(self.graph[m].pos));
+                match first[s] {
+                    None => first[s] = Some(k),
+                    Some(j) => {
+                        let (rj, rk) = (root(&mut parent, j), root(&mut parent, k));
+                        parent[rj.max(rk)] = rj.min(rk);
+                    }
+                }
+            }
+        }
+        if (0..rooms.len()).any(|k| parent[k] != k) {
+            let mut merged: BTreeMap<usize, Vec<NodeIndex>> = BTreeMap::new();
+            for (k, r) in rooms.iter().enumerate() {
+                let top = root(&mut parent, k);
+                merged.entry(top).or_default().extend(&r.places);
+            }
+            let mut new_index: BTreeMap<usize, usize> = BTreeMap::new();
+            rooms = merged
+                .into_iter()
+                .enumerate()
+                .map(|(i, (top, mut places))| {
+                    new_index.insert(top, i);
+                    places.sort();
+                    MapRoom {
+                        id: places[0].index(),
+                        places,
+                    }
+                })
+                .collect();
+            for k in comp.values_mut() {
+                *k = new_index[&root(&mut parent, *k)];
+            }
         }
         let mut adjacency = Vec::new();
         for n in self.graph.node_indices() {

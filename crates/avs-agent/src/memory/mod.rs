@@ -16,7 +16,7 @@ use avs_map::grid::{Cell, OccupancyGrid};
 use avs_map::memo::Memo;
 use avs_map::nav::{shortest_path_within, Traversability};
 use avs_map::places::dist;
-use avs_map::raycast::line_of_sight;
+use avs_map::raycast::walk_segment;
 use avs_robot::{Detection, DoorSighting, Point3};
 use avs_view::PlannedView;
 use avs_view::Surface;
@@ -43,6 +43,9 @@ pub(crate) struct Known {
     pub landmark: Option<LandmarkId>,
     /// The known object (index) it lies on.
     pub on: Option<usize>,
+    /// Whether a look around has counted it as object-count evidence (each instance counts
+    /// once; one found by a search is counted by the first look around that sees it).
+    pub counted: bool,
 }
 
 /// Where view cones are planned: a room, or on or in a known object (index into the
@@ -342,26 +345,64 @@ impl Memory {
             .min_by(|&a, &b| dist(g[a].pos, p).total_cmp(&dist(g[b].pos, p)))
     }
 
-    /// Whether a point seen from `from` lies in the same room: the sight line (stopping `slack`
-    /// short) crosses no wall of the known map and no door hypothesis.
-    pub fn same_room(&self, from: [f64; 2], p: [f64; 2], slack: f64) -> bool {
-        let d = dist(from, p);
-        let end = if d > slack {
-            let t = (d - slack) / d;
-            [
-                from[0] + t * (p[0] - from[0]),
-                from[1] + t * (p[1] - from[1]),
-            ]
-        } else {
-            from
+    /// Whether a point seen from `from` lies in the same room as `from`: the sight line
+    /// crosses no door hypothesis, and the known free space where it leaves the point —
+    /// the first known free cell on the line from the point back to `from` — belongs to the
+    /// room `from` is in ([`Memory::room_at`]). A sighting on furniture, or seen over a table
+    /// (the camera looks over what the planar map has as an obstacle), is in the room whose
+    /// floor surrounds it; one seen through a doorway or past a wall's end is not. (A sight
+    /// line checked on the planar map took a counter seen over a table for one in another
+    /// room, and a kitchen for a corridor.)
+    pub fn same_room(&self, from: [f64; 2], p: [f64; 2]) -> bool {
+        if self
+            .wm
+            .places
+            .doors
+            .iter()
+            .any(|dr| dr.hypothesis.crossed_by(from, p))
+        {
+            return false;
+        }
+        let Some(here) = self.room_at(from) else {
+            return false;
         };
-        line_of_sight(&self.grid, from, end, false)
-            && !self
-                .wm
-                .places
-                .doors
-                .iter()
-                .any(|dr| dr.hypothesis.crossed_by(from, p))
+        let mut floor = None;
+        walk_segment(&self.grid, p, from, |c, r| {
+            if self.grid.get_i(c, r) == Cell::Free {
+                floor = Some(self.grid.cell_center(c, r));
+            }
+            floor.is_none()
+        });
+        floor.is_some_and(|(x, y)| self.room_at([x, y]) == Some(here))
+    }
+
+    /// The room whose floor surrounds a point (furniture's centre): the room of most of the
+    /// known free cells within `radius` metres of it, `None` when none is labelled. The room
+    /// an object was filed under is where it was seen from, which may be through a door.
+    pub fn room_around(&self, p: [f64; 2], radius: f64) -> Option<RoomId> {
+        let g = &self.grid;
+        let res = g.resolution();
+        let k = (radius / res).ceil() as i64;
+        let (pc, pr) = g.world_to_cell(p[0], p[1]);
+        let mut votes: BTreeMap<RoomId, usize> = BTreeMap::new();
+        for dr in -k..=k {
+            for dc in -k..=k {
+                let (c, r) = (pc + dc, pr + dr);
+                if ((dc * dc + dr * dr) as f64) * res * res > radius * radius
+                    || g.get_i(c, r) != Cell::Free
+                {
+                    continue;
+                }
+                let (x, y) = g.cell_center(c, r);
+                if let Some(room) = self.room_at([x, y]) {
+                    *votes.entry(room).or_default() += 1;
+                }
+            }
+        }
+        votes
+            .into_iter()
+            .max_by_key(|&(room, n)| (n, std::cmp::Reverse(room)))
+            .map(|(r, _)| r)
     }
 
     /// The room a place belongs to; a door place belongs to its neighbour's room of smallest id.

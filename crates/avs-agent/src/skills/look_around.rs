@@ -98,25 +98,30 @@ pub(crate) fn look_around<R: Robot + ?Sized>(
             confirmed.push(d);
         }
     }
+    // `counts`: the landmarks seen from here, known ones included (what the trace reports);
+    // `new`: those no earlier look around counted, the count evidence (each instance counts
+    // once, in the look that first saw it: `avs_concepts`' crate docs, *Object counts*).
     let mut counts: BTreeMap<String, u32> = classes.iter().map(|c| (c.clone(), 0)).collect();
+    let mut new = counts.clone();
     for d in confirmed {
-        let slack = mem.footprint_slack(cx.knowledge, &d.class);
-        if !mem.same_room([pose.x, pose.y], [d.pose.x, d.pose.y], slack) {
+        if !mem.same_room([pose.x, pose.y], [d.pose.x, d.pose.y]) {
             tracing::debug!(class = %d.class, x = d.pose.x, y = d.pose.y, "landmark in another room");
             continue; // seen through a door: another room
         }
-        // The count is of the landmarks seen from here, known ones included: a landmark found
-        // before and seen again is still in the room, and counting it as none (a look around
-        // at the start of a second goal) was evidence against the room's own furniture.
         *counts.entry(d.class.clone()).or_default() += 1;
         let near = mem.object_place([d.pose.x, d.pose.y]).unwrap_or(place);
         let known = mem
             .objects
-            .iter()
-            .any(|o| o.class == d.class && o.pos.planar_distance(d.pose.x, d.pose.y) < 1.0);
-        if known {
+            .iter_mut()
+            .find(|o| o.class == d.class && o.pos.planar_distance(d.pose.x, d.pose.y) < 1.0);
+        if let Some(o) = known {
+            // Found by a search, it was never counted: a look around counts it now.
+            if !std::mem::replace(&mut o.counted, true) {
+                *new.entry(d.class.clone()).or_default() += 1;
+            }
             continue;
         }
+        *new.entry(d.class.clone()).or_default() += 1;
         let lm = mem.wm.found_landmark(near, &d.class)?;
         mem.objects.push(Known {
             class: d.class.clone(),
@@ -124,9 +129,10 @@ pub(crate) fn look_around<R: Robot + ?Sized>(
             place: near,
             landmark: Some(lm),
             on: None,
+            counted: true,
         });
     }
-    for (c, n) in &counts {
+    for (c, n) in &new {
         mem.wm.saw_objects(place, c, *n, t.look_coverage)?;
     }
     mem.looked.insert(room.0);
@@ -235,11 +241,12 @@ mod tests {
     }
 
     /// A second look around in a room (the start of a second goal, from another place) sees
-    /// the landmarks found by the first again. Counted as none because they were known, they
-    /// were evidence against the room's own furniture: a kitchen with a counter then read as
-    /// less of a kitchen after every look.
+    /// the landmarks found by the first again. Counted again, the same counter would be two
+    /// counters' evidence; counted as a fresh look that found none, it was evidence against the
+    /// room's own furniture (P(kitchen) 0.63 → 0.28 here). It adds no new instance, and a look
+    /// that can only add what the first missed weighs little (0.63 → 0.51).
     #[test]
-    fn looking_around_again_counts_the_known_landmarks_it_sees() {
+    fn looking_around_again_counts_no_known_landmark_twice_and_weighs_little() {
         let (config, k) = (AgentConfig::default(), testing::knowledge());
         let mut robot = testing::robot(testing::room(6.0, 4.0), [1.5, 2.0]);
         robot.place(object("counter", 4.5, 3.4, 0.9));
@@ -264,7 +271,7 @@ mod tests {
         assert_eq!(mem.objects.len(), 1, "the known counter was added again");
         let second = mem.wm.concepts.p_category(room, "kitchen").unwrap();
         assert!(
-            second >= first - 1e-9,
+            second <= first + 1e-9 && second > first - 0.2,
             "P(kitchen) {first} -> {second} after seeing the same counter again from {moved:?}"
         );
     }

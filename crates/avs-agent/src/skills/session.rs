@@ -291,6 +291,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                 place,
                 landmark,
                 on,
+                counted: false,
             });
             let name = names::object(k);
             if let Some(a) = &search.assumption {
@@ -446,18 +447,8 @@ fn detection_in(cx: Ctx, mem: &Memory, d: &Detection, loc: ConeLoc, from: Pose2D
         }
         ConeLoc::Room(r) => {
             let here = [from.x, from.y];
-            // A small object may stand anywhere on a piece of furniture, whose footprint
-            // is an obstacle of the known map: the sight line may stop short by the largest
-            // landmark's half diagonal.
-            let slack = cx
-                .knowledge
-                .object_classes
-                .iter()
-                .filter(|c| c.landmark)
-                .map(|c| mem.footprint_slack(cx.knowledge, &c.name))
-                .fold(mem.footprint_slack(cx.knowledge, &d.class), f64::max);
             !known
-                && mem.same_room(here, [d.pose.x, d.pose.y], slack)
+                && mem.same_room(here, [d.pose.x, d.pose.y])
                 && mem.room_at(here) == Some(RoomId(r))
         }
     }

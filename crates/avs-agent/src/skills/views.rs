@@ -131,11 +131,25 @@ pub(crate) fn plan_cones(
     let grid = &mem.grid;
     let in_room = |x: f64, y: f64, r: u64| mem.room_at([x, y]) == Some(RoomId(r));
     let points = points.unwrap_or_else(|| location_points(cx, mem, class, loc));
-    let (center, reach): (Option<[f64; 2]>, f64) = match loc {
-        ConeLoc::Room(_) => (None, 0.0),
+    // A landmark is looked at from within its detection reach and from inside its own room:
+    // the disc its top may occupy (`avs_view::Surface`) reaches through the wall behind a
+    // counter or desk standing against it, and a sight line that may skip the disc would look
+    // through that wall from the next room (a standpoint there cost a walk out of the room
+    // and back, and its view saw nothing).
+    let (center, reach, home): (Option<[f64; 2]>, f64, Option<RoomId>) = match loc {
+        ConeLoc::Room(_) => (None, 0.0, None),
         ConeLoc::On(k) | ConeLoc::In(k) => {
             let o = &mem.objects[k];
-            (Some([o.pos.x, o.pos.y]), class.detection_range[1] + 0.5)
+            let half = cx
+                .knowledge
+                .class(&o.class)
+                .map_or(0.6, |c| 0.5 * c.size[0].hypot(c.size[1]));
+            let home = mem.room_around([o.pos.x, o.pos.y], half + 0.5);
+            (
+                Some([o.pos.x, o.pos.y]),
+                class.detection_range[1] + 0.5,
+                home,
+            )
         }
     };
     // A landmark's top is small: poses on a finer grid, so that one lies near the middle of a
@@ -149,7 +163,9 @@ pub(crate) fn plan_cones(
         .into_iter()
         .filter(|&[x, y]| match (loc, center) {
             (ConeLoc::Room(r), _) => in_room(x, y, r),
-            (_, Some(c)) => dist([x, y], c) <= reach,
+            (_, Some(c)) => {
+                dist([x, y], c) <= reach && home.is_none_or(|r| mem.room_at([x, y]) == Some(r))
+            }
             _ => false,
         })
         .map(|[x, y]| [x, y, 0.0])

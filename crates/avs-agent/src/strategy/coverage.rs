@@ -456,6 +456,7 @@ fn process_views<R: Robot + ?Sized>(
                     place,
                     landmark: None,
                     on: None,
+                    counted: false,
                 });
             }
             return Ok(Some(FoundObject {
