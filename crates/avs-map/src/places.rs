@@ -960,6 +960,53 @@ mod tests {
         assert!((6..=12).contains(&n), "{n} places");
     }
 
+    /// A corridor below a door: the robot walked from the corridor's west end to the door
+    /// and from the door along the corridor to its east end, so the two corridor places are
+    /// joined only through the door place. They are one room; the place above the door is
+    /// another.
+    #[test]
+    fn places_on_one_side_of_a_door_are_one_room_even_when_joined_only_through_it() {
+        let mut map = PlaceMap::new(PlaceMapParams::default());
+        map.doors.push(MapDoor {
+            hypothesis: DoorHypothesis {
+                center: [5.0, 2.5],
+                jambs: [[4.5, 2.5], [5.5, 2.5]],
+                width: 0.9,
+            },
+            confirmed: true,
+            place: None,
+        });
+        let place = |map: &mut PlaceMap, pos: [f64; 2], door: Option<usize>| {
+            map.graph.add_node(Place { pos, door })
+        };
+        let door = place(&mut map, [5.0, 2.5], Some(0));
+        map.doors[0].place = Some(door);
+        let west = place(&mut map, [2.0, 1.5], None);
+        let east = place(&mut map, [8.0, 1.5], None);
+        let above = place(&mut map, [5.0, 4.0], None);
+        for p in [west, east, above] {
+            let length = dist(map.graph[p].pos, map.graph[door].pos);
+            map.graph.add_edge(
+                p,
+                door,
+                PathEdge {
+                    length,
+                    traversed: true,
+                },
+            );
+        }
+        let rooms = map.rooms();
+        assert_eq!(rooms.rooms.len(), 2, "{rooms:?}");
+        let corridor = rooms
+            .rooms
+            .iter()
+            .find(|r| r.places.contains(&west))
+            .expect("a room holds the west place");
+        assert!(corridor.places.contains(&east), "{rooms:?}");
+        assert!(!corridor.places.contains(&above), "{rooms:?}");
+        assert_eq!(rooms.adjacency.len(), 1, "{rooms:?}");
+    }
+
     #[test]
     fn a_placeholder_hangs_at_the_unknown_room_behind_the_door_with_open_area() {
         let g = two_rooms(true);

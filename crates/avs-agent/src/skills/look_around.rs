@@ -276,6 +276,49 @@ mod tests {
         );
     }
 
+    /// A counter at the far wall, seen over a table standing between it and the robot (the
+    /// table's footprint is an obstacle of the planar map): the counter is in the robot's room,
+    /// whose floor surrounds it. The planar sight line, stopped by the table, filed it under
+    /// another room.
+    #[test]
+    fn a_landmark_seen_over_a_table_is_in_the_room() {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        // A 6 m × 6 m room (the gaps beside the table are wider than a door).
+        let mut grid = testing::room(6.0, 6.0);
+        // A 1.2 m × 1.6 m table in the middle, between the robot and the counter.
+        for col in 24..36 {
+            for row in 22..38 {
+                grid.set(col, row, avs_map::grid::Cell::Occupied);
+            }
+        }
+        let mut robot = testing::robot(grid, [1.5, 3.0]);
+        robot.place(object("counter", 5.3, 3.0, 0.9));
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let mut sink = testing::sink();
+        let mut run = testing::run(&mut sink);
+        let cx = Ctx {
+            knowledge: &k,
+            config: &config,
+        };
+        let mut body = Body::new(&mut robot);
+        let room = mem.current_room().expect("a room");
+        let before = mem.wm.concepts.p_category(room, "kitchen").unwrap();
+        assert!(!avs_map::raycast::line_of_sight(
+            &mem.grid,
+            [1.5, 3.0],
+            [5.3, 3.0],
+            false
+        ));
+        look_around(cx, &mut mem, &mut body, &mut run).unwrap();
+        assert!(
+            mem.objects.iter().any(|o| o.class == "counter"),
+            "the counter is a landmark of the room: {:?}",
+            mem.objects
+        );
+        let after = mem.wm.concepts.p_category(room, "kitchen").unwrap();
+        assert!(after > before, "P(kitchen) {before} -> {after}");
+    }
+
     #[test]
     fn a_sighting_seen_once_and_not_again_up_close_is_no_landmark() {
         let (config, k) = (AgentConfig::default(), testing::knowledge());
