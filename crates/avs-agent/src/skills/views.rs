@@ -370,4 +370,73 @@ mod planning_tests {
         });
         assert!(said, "{:?}", run.events);
     }
+
+    /// Two 4 m × 4 m rooms side by side, a 0.2 m wall between them with a 1 m door in its
+    /// middle, and a counter (its top a surface) against the wall on the east side. The
+    /// disc its top may occupy reaches through the wall into the west room; a search on the
+    /// counter still looks from the east room only, the one whose floor surrounds it.
+    #[test]
+    fn a_search_on_a_counter_against_a_wall_looks_from_the_counters_own_room() {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        let mut grid = testing::room(8.2, 4.0);
+        for row in (1..15).chain(25..39) {
+            for col in 40..42 {
+                grid.set(col, row, Cell::Occupied);
+            }
+        }
+        // The counter's footprint, 0.6 m deep along the wall's east face, 1.2 m long.
+        for row in 27..39 {
+            for col in 42..48 {
+                grid.set(col, row, Cell::Occupied);
+            }
+        }
+        let mut robot = testing::robot(grid, [1.0, 2.0]);
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let cx = Ctx {
+            knowledge: &k,
+            config: &config,
+        };
+        let mut body = crate::body::Body::new(&mut robot);
+        // Walk through the door into the east room and look at the counter from there.
+        body.go_to(&mut mem, [6.0, 2.0]).unwrap().unwrap();
+        body.go_to(&mut mem, [6.5, 1.0]).unwrap().unwrap();
+        mem.sync().unwrap();
+        let east = mem.current_room().expect("the east room");
+        let west = mem.room_at([1.0, 2.0]).expect("the west room");
+        assert_ne!(east, west, "the door splits the floor into two rooms");
+        let place = mem.current_place().expect("a place");
+        mem.objects.push(crate::memory::Known {
+            class: "counter".into(),
+            pos: avs_robot::Point3 {
+                x: 4.5,
+                y: 3.3,
+                z: 0.0,
+            },
+            place,
+            landmark: None,
+            on: None,
+            counted: true,
+        });
+        let k_counter = mem.objects.len() - 1;
+        let cam = avs_robot::Robot::camera(&robot);
+        let set = plan_cones(
+            cx,
+            &mem,
+            &cam,
+            "cerealbox",
+            ConeLoc::On(k_counter),
+            None,
+            &[1.0],
+        )
+        .expect("cones on the counter");
+        assert!(!set.views.is_empty());
+        for v in &set.views {
+            assert_eq!(
+                mem.room_at([v.pose[0], v.pose[1]]),
+                Some(east),
+                "a view from {:?}",
+                v.pose
+            );
+        }
+    }
 }
