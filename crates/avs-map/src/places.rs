@@ -374,7 +374,8 @@ impl PlaceMap {
         label
     }
 
-    /// Rooms: connected components of the place graph without door places.
+    /// Rooms: connected components of the place graph without door places, the neighbours of
+    /// a door place on the same side of its opening joined (see the module docs).
     pub fn rooms(&self) -> Rooms {
         let mut comp: BTreeMap<NodeIndex, usize> = BTreeMap::new();
         let mut rooms: Vec<MapRoom> = Vec::new();
