@@ -241,9 +241,8 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
             // Doors first, from the map as this step left it: a doorway seen only from inside
             // it is crossed on this very step, and a door missing from the list here is never
             // confirmed (its room stays joined to the one the robot came from). Then the
-            // places, then the placeholders that hang off them (the door detection is cached
-            // on the grid).
-            mem.wm.places.update(&grid);
+            // places, then the placeholders that hang off them.
+            mem.wm.places.refresh_doors(&grid);
             mem.wm.places.robot_moved(&grid, prev, [now.x, now.y]);
             mem.wm.places.update(&grid);
             mem.grid = grid;

@@ -161,10 +161,7 @@ mod tests {
         let ph = binding.placeholder_arg(id);
         let mut sink = testing::sink();
         let mut run = testing::run(&mut sink);
-        let cx = Ctx {
-            knowledge: &k,
-            config: &config,
-        };
+        let cx = testing::ctx(&k, &config);
         let mut body = Body::new(&mut robot);
         body.go_to(&mut mem, ph.pos.expect("in the problem"))
             .unwrap()

@@ -195,10 +195,7 @@ mod tests {
         let mut mem = testing::memory(&config, &k, &mut robot);
         let mut sink = testing::sink();
         let mut run = testing::run(&mut sink);
-        let cx = Ctx {
-            knowledge: &k,
-            config: &config,
-        };
+        let cx = testing::ctx(&k, &config);
         look_around(cx, &mut mem, &mut Body::new(&mut robot), &mut run).unwrap();
         let room = mem.current_room().expect("the robot stands in a room");
         assert!(mem.looked.contains(&room.0));
@@ -253,10 +250,7 @@ mod tests {
         let mut mem = testing::memory(&config, &k, &mut robot);
         let mut sink = testing::sink();
         let mut run = testing::run(&mut sink);
-        let cx = Ctx {
-            knowledge: &k,
-            config: &config,
-        };
+        let cx = testing::ctx(&k, &config);
         let mut body = Body::new(&mut robot);
         look_around(cx, &mut mem, &mut body, &mut run).unwrap();
         let room = mem.current_room().expect("a room");
@@ -296,10 +290,7 @@ mod tests {
         let mut mem = testing::memory(&config, &k, &mut robot);
         let mut sink = testing::sink();
         let mut run = testing::run(&mut sink);
-        let cx = Ctx {
-            knowledge: &k,
-            config: &config,
-        };
+        let cx = testing::ctx(&k, &config);
         let mut body = Body::new(&mut robot);
         let room = mem.current_room().expect("a room");
         let before = mem.wm.concepts.p_category(room, "kitchen").unwrap();
@@ -329,10 +320,7 @@ mod tests {
         robot.script_view(Ok(vec![object("desk", 3.0, 3.0, 0.75)]));
         let mut sink = testing::sink();
         let mut run = testing::run(&mut sink);
-        let cx = Ctx {
-            knowledge: &k,
-            config: &config,
-        };
+        let cx = testing::ctx(&k, &config);
         look_around(cx, &mut mem, &mut Body::new(&mut robot), &mut run).unwrap();
         assert!(mem.objects.is_empty(), "{:?}", mem.objects);
         assert!(testing::text(&run).contains("no landmarks"));

@@ -471,10 +471,7 @@ mod tests {
         let room = mem.current_room().expect("a room");
         let mut sink = testing::sink();
         let mut run = testing::run(&mut sink);
-        let cx = Ctx {
-            knowledge: &k,
-            config: &config,
-        };
+        let cx = testing::ctx(&k, &config);
         let obj = ObjArg {
             name: "new-object1".into(),
             assumed: true,
@@ -561,10 +558,7 @@ mod tests {
         // The cones of a search in vain are dropped; the next are planned for the rest.
         assert!(mem.cones.is_empty());
         let room = mem.current_room().unwrap();
-        let cx = Ctx {
-            knowledge: &k,
-            config: &config,
-        };
+        let cx = testing::ctx(&k, &config);
         let mut sink = testing::sink();
         let mut run = testing::run(&mut sink);
         create_cones(
@@ -603,10 +597,7 @@ mod tests {
         let mut mem = testing::memory(&config, &k, &mut robot);
         let room = mem.current_room().unwrap();
         let loc = ConeLoc::Room(room.0);
-        let cx = Ctx {
-            knowledge: &k,
-            config: &config,
-        };
+        let cx = testing::ctx(&k, &config);
         let mut sink = testing::sink();
         let mut run = testing::run(&mut sink);
         create_cones(cx, &mut mem, &robot.camera(), &mut run, "cerealbox", loc);

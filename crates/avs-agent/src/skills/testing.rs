@@ -33,6 +33,11 @@ pub fn room(w: f64, h: f64) -> OccupancyGrid {
 }
 
 /// A sighting of `class` at `(x, y, z)` with confidence 0.8.
+/// The skills' context over a test's knowledge and configuration.
+pub fn ctx<'a>(knowledge: &'a Knowledge, config: &'a AgentConfig) -> super::Ctx<'a> {
+    super::Ctx { knowledge, config }
+}
+
 pub fn object(class: &str, x: f64, y: f64, z: f64) -> Detection {
     Detection {
         class: class.into(),

@@ -175,10 +175,7 @@ mod tests {
         }
         let mut sink = testing::sink();
         let mut run = testing::run(&mut sink);
-        let cx = Ctx {
-            knowledge: &k,
-            config: &config,
-        };
+        let cx = testing::ctx(&k, &config);
         let v = verify(
             cx,
             &mut mem,

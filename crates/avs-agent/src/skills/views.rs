@@ -339,10 +339,7 @@ mod planning_tests {
         let room = mem.current_room().expect("a room");
         let mut sink = testing::sink();
         let mut run = testing::run(&mut sink);
-        let cx = Ctx {
-            knowledge: &k,
-            config: &config,
-        };
+        let cx = testing::ctx(&k, &config);
         let cam = avs_robot::Robot::camera(&robot);
         create_cones(
             cx,
@@ -392,10 +389,7 @@ mod planning_tests {
         }
         let mut robot = testing::robot(grid, [1.0, 2.0]);
         let mut mem = testing::memory(&config, &k, &mut robot);
-        let cx = Ctx {
-            knowledge: &k,
-            config: &config,
-        };
+        let cx = testing::ctx(&k, &config);
         let mut body = crate::body::Body::new(&mut robot);
         // Walk through the door into the east room and look at the counter from there.
         body.go_to(&mut mem, [6.0, 2.0]).unwrap().unwrap();
