@@ -91,6 +91,14 @@ impl Frame {
     fn px(&self, p: [f64; 2]) -> (f64, f64) {
         (self.x(p[0]), self.y(p[1]))
     }
+    /// An SVG line from world point `a` to world point `b` (style it with `.set`).
+    fn segment(&self, a: [f64; 2], b: [f64; 2]) -> Line {
+        Line::new()
+            .set("x1", self.x(a[0]))
+            .set("y1", self.y(a[1]))
+            .set("x2", self.x(b[0]))
+            .set("y2", self.y(b[1]))
+    }
 }
 
 /// Draw the grid as horizontal runs of equal colour; `colour(col, row)` names each cell's fill
@@ -249,18 +257,17 @@ fn doors(world: &World, f: &Frame) -> Group {
         let yaw = d.pose.yaw_deg.to_radians();
         let (ux, uy) = (-yaw.sin() * d.width / 2.0, yaw.cos() * d.width / 2.0);
         doors = doors.add(
-            Line::new()
-                .set("x1", f.x(d.pose.x - ux))
-                .set("y1", f.y(d.pose.y - uy))
-                .set("x2", f.x(d.pose.x + ux))
-                .set("y2", f.y(d.pose.y + uy))
-                .set("stroke", if d.open { "#2b8cbe" } else { "#e6550d" })
-                .set("stroke-width", 4)
-                .add(Title::new(format!(
-                    "{} ({})",
-                    d.name,
-                    if d.open { "open" } else { "closed" }
-                ))),
+            f.segment(
+                [d.pose.x - ux, d.pose.y - uy],
+                [d.pose.x + ux, d.pose.y + uy],
+            )
+            .set("stroke", if d.open { "#2b8cbe" } else { "#e6550d" })
+            .set("stroke-width", 4)
+            .add(Title::new(format!(
+                "{} ({})",
+                d.name,
+                if d.open { "open" } else { "closed" }
+            ))),
         );
     }
     doors
@@ -424,11 +431,7 @@ pub fn render_exploration(ex: &Explorer) -> String {
     for (a, b, e) in map.paths() {
         let (pa, pb) = (map.graph[a].pos, map.graph[b].pos);
         graph = graph.add(
-            Line::new()
-                .set("x1", f.x(pa[0]))
-                .set("y1", f.y(pa[1]))
-                .set("x2", f.x(pb[0]))
-                .set("y2", f.y(pb[1]))
+            f.segment(pa, pb)
                 .set("stroke", "#555")
                 .set("stroke-width", if e.traversed { 2 } else { 1 })
                 .set("stroke-dasharray", if e.traversed { "none" } else { "3,3" }),
@@ -460,11 +463,7 @@ pub fn render_exploration(ex: &Explorer) -> String {
     for d in &map.doors {
         let [a, b] = d.hypothesis.jambs;
         graph = graph.add(
-            Line::new()
-                .set("x1", f.x(a[0]))
-                .set("y1", f.y(a[1]))
-                .set("x2", f.x(b[0]))
-                .set("y2", f.y(b[1]))
+            f.segment(a, b)
                 .set("stroke", "#2b8cbe")
                 .set("stroke-width", 3)
                 .set("stroke-dasharray", if d.confirmed { "none" } else { "4,3" }),
