@@ -53,6 +53,14 @@ enum Command {
     /// Solve or simulate a POMDP in Cassandra's format.
     #[command(subcommand)]
     Pomdp(cmd::pomdp::Command),
+    /// Gaussian-process regression (the verification sensor models' GPs).
+    #[command(subcommand)]
+    Gp(cmd::gp::Command),
+    /// Detection verification: train a sensor model for a detector.
+    #[command(subcommand)]
+    Verify(cmd::verify::Command),
+    /// Detection verification over repeated trials of a scenario (precision, recall, path).
+    VerifyBench(cmd::verify::BenchArgs),
 }
 
 /// Rust ignores SIGPIPE, so a write to a closed pipe (`avs schema environment | head -c1`) is an
@@ -90,6 +98,9 @@ fn main() -> ExitCode {
         Command::Infer(a) => cmd::infer::run(a),
         Command::Plan(a) => cmd::plan::run(a),
         Command::Pomdp(c) => cmd::pomdp::run(c),
+        Command::Gp(c) => cmd::gp::run(c),
+        Command::Verify(c) => cmd::verify::run(c),
+        Command::VerifyBench(a) => cmd::verify::bench(a),
         Command::Examples(a) => cmd::examples::run(a),
     };
     // Usage errors (flags clap cannot parse) exit 2 from `Cli::parse`; everything a command

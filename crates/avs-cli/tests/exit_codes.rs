@@ -30,6 +30,8 @@ fn with_missing_input() -> Vec<Vec<&'static str>> {
         vec!["plan", MISSING, MISSING],
         vec!["pomdp", "solve", MISSING],
         vec!["pomdp", "simulate", MISSING],
+        vec!["gp", "eval", MISSING],
+        vec!["verify-bench", "--scenario", MISSING, "--trials", "1"],
     ]
 }
 
@@ -59,6 +61,9 @@ fn an_unknown_flag_exits_2_on_every_subcommand() {
         vec!["plan"],
         vec!["pomdp", "solve"],
         vec!["pomdp", "simulate"],
+        vec!["gp", "eval"],
+        vec!["verify", "train"],
+        vec!["verify-bench"],
     ] {
         let mut args = sub.clone();
         args.push("--no-such-flag");

@@ -13,7 +13,8 @@
 //! * [`edits`] — world edits before a search (start pose, closed doors, removed objects);
 //! * [`scenario`] — the scenario runner: a scenario file re-enacted (world edits, searches
 //!   before the goal), its expected properties checked and its text trace compared with the
-//!   golden file (the plan-trace suite in `tests/plan_traces/`).
+//!   golden file (the plan-trace suite in `tests/plan_traces/`);
+//! * [`verification`] — the detection-verification harness and bench (`avs verify-bench`).
 //!
 //! The `avs` CLI's `run`, `search` and `bench` are thin layers over this crate.
 //!
@@ -48,5 +49,6 @@ pub mod faults;
 pub mod inputs;
 pub mod scenario;
 pub mod stats;
+pub mod verification;
 
 pub use error::EvalError;

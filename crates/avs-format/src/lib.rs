@@ -73,6 +73,7 @@ pub mod load;
 pub mod positions;
 pub mod scenario;
 pub mod schema;
+pub mod verification;
 
 pub use diag::{Diagnostic, Diagnostics};
 pub use load::{load_yaml, load_yaml_str, read_kind, read_text, FileKind, LoadError};

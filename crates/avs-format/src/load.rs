@@ -26,15 +26,18 @@ pub enum FileKind {
     Domain,
     /// A plan-trace scenario.
     Scenario,
+    /// A detection-verification scenario.
+    Verification,
 }
 
 impl FileKind {
     /// All kinds, in documentation order.
-    pub const ALL: [FileKind; 4] = [
+    pub const ALL: [FileKind; 5] = [
         FileKind::Environment,
         FileKind::Knowledge,
         FileKind::Domain,
         FileKind::Scenario,
+        FileKind::Verification,
     ];
 
     /// The name used after `kind:`.
@@ -44,6 +47,7 @@ impl FileKind {
             FileKind::Knowledge => "knowledge",
             FileKind::Domain => "domain",
             FileKind::Scenario => "scenario",
+            FileKind::Verification => "verification",
         }
     }
 }
@@ -439,7 +443,7 @@ pub fn read_kind(file: &str, text: &str) -> Result<FileKind, LoadError> {
     struct KindOnly {
         kind: FileKind,
     }
-    const KINDS: &str = "`kind:` one of environment, knowledge, domain, scenario";
+    const KINDS: &str = "`kind:` one of environment, knowledge, domain, scenario, verification";
     let k: KindOnly = load_yaml_str(file, text).map_err(|mut e| {
         for d in &mut e.diagnostics {
             if d.path == "kind" {
@@ -509,7 +513,7 @@ mod tests {
         assert_eq!(d.path, "kind");
         assert!(d
             .expected
-            .contains("environment, knowledge, domain, scenario"));
+            .contains("environment, knowledge, domain, scenario, verification"));
         let d = &read_kind("f.yaml", "kind: planet\n")
             .unwrap_err()
             .diagnostics[0];

@@ -10,6 +10,9 @@ pub fn schema_json(kind: FileKind) -> Option<String> {
         FileKind::Environment => schemars::schema_for!(crate::environment::Environment),
         FileKind::Knowledge => schemars::schema_for!(crate::knowledge::Knowledge),
         FileKind::Scenario => schemars::schema_for!(crate::scenario::Scenario),
+        FileKind::Verification => {
+            schemars::schema_for!(crate::verification::VerificationScenario)
+        }
         FileKind::Domain => return None,
     };
     serde_json::to_string_pretty(&schema).ok()

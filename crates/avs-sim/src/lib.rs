@@ -31,6 +31,7 @@
 //! assert!(m.reached && robot.path_length > 3.0);
 //! ```
 pub mod check;
+pub mod detector;
 pub mod explore;
 pub mod generate;
 pub mod place_classifier;

@@ -15,6 +15,8 @@ pub enum Kind {
     Domain,
     /// A scenario.
     Scenario,
+    /// A detection-verification scenario.
+    Verification,
     /// One line of a JSON-lines plan trace (`--trace-json`): one event.
     Trace,
 }
@@ -37,6 +39,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::SUCCESS);
         }
         Kind::Scenario => FileKind::Scenario,
+        Kind::Verification => FileKind::Verification,
         Kind::Trace => {
             println!("{}", avs_agent::trace::schema_json());
             return Ok(ExitCode::SUCCESS);

@@ -88,6 +88,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             FileKind::Knowledge => avs_format::knowledge::check(&input.name, &input.text),
             FileKind::Domain => avs_plan::check_domain(&input.name, &input.text),
             FileKind::Scenario => avs_format::scenario::check(&input.name, &input.text),
+            FileKind::Verification => avs_format::verification::check(&input.name, &input.text),
         };
         avs_format::positions::locate(&mut found, &input.text);
         problems.extend(found);

@@ -1,0 +1,132 @@
+//! Verification planners: given the candidates under verification, where to look next, or
+//! that it is time to decide.
+//!
+//! * [`planned`] — Velez et al.'s REPLANONNEWDETECTION (Fig. 7): sampled look sequences, each
+//!   costed by its extra motion plus the expected decision cost after it (eq. 1, 20, 32);
+//! * [`greedy`] — the GREEDY(τ) baseline (§8.1): the best field point of each undecided
+//!   candidate until its belief passes τ.
+//!
+//! A planner is called again after every look (the new score may change everything), so it
+//! returns one [`Step`]: the next look, or the decision.
+
+pub mod greedy;
+pub mod planned;
+
+use crate::field::VantageGrid;
+use crate::sensor::{IndAt, Look, SensorModel};
+use crate::vantage::Vantage;
+use serde::{Deserialize, Serialize};
+
+/// A candidate detection under verification: where it is, which way it faces, its sensor
+/// model, the belief that it is an object and the looks taken at it.
+#[derive(Debug, Clone)]
+pub struct Candidate<'m> {
+    /// Position, metres.
+    pub position: [f64; 2],
+    /// Facing, radians (`None` when unknown or meaningless).
+    pub facing: Option<f64>,
+    /// The detector's model for the candidate's class.
+    pub model: &'m SensorModel,
+    /// P(object) now.
+    pub belief: f64,
+    /// The looks taken at it so far.
+    pub looks: Vec<Look>,
+}
+
+impl<'m> Candidate<'m> {
+    /// A new candidate with a prior belief and no looks.
+    pub fn new(
+        position: [f64; 2],
+        facing: Option<f64>,
+        model: &'m SensorModel,
+        prior: f64,
+    ) -> Self {
+        Self {
+            position,
+            facing,
+            model,
+            belief: prior,
+            looks: Vec::new(),
+        }
+    }
+
+    /// The vantage point of a robot at `waypoint` facing this candidate.
+    pub fn vantage(&self, waypoint: [f64; 2]) -> Vantage {
+        Vantage::of(waypoint, self.position, self.facing)
+    }
+
+    /// Take a look's score into account: the belief by Bayes' rule (eq. 6/11, through the model
+    /// conditioned on the earlier looks), then the look joins the history.
+    pub fn observe(&mut self, waypoint: [f64; 2], score: f64) -> Result<(), crate::VerifyError> {
+        let v = self.vantage(waypoint);
+        let c = self.model.condition(&self.looks)?;
+        self.belief = c.update(self.belief, &v, score).clamp(1e-9, 1.0 - 1e-9);
+        self.looks.push(Look { vantage: v, score });
+        Ok(())
+    }
+}
+
+/// The space the robot moves in, as the planners need it.
+pub trait Terrain {
+    /// Whether the robot can stand at `at` and see a candidate at `target` from there.
+    fn can_view(&self, at: [f64; 2], target: [f64; 2]) -> bool;
+    /// Travel distance from `a` to `b`, metres (infinite when unreachable).
+    fn distance(&self, a: [f64; 2], b: [f64; 2]) -> f64;
+}
+
+/// An open plane: every point reachable in a straight line, every candidate in view.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct OpenPlane;
+
+impl Terrain for OpenPlane {
+    fn can_view(&self, _: [f64; 2], _: [f64; 2]) -> bool {
+        true
+    }
+    fn distance(&self, a: [f64; 2], b: [f64; 2]) -> f64 {
+        (a[0] - b[0]).hypot(a[1] - b[1])
+    }
+}
+
+/// The next thing to do.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Step {
+    /// Go to `waypoint`, face candidate `candidate` and look at it.
+    Look {
+        /// Index of the candidate looked at.
+        candidate: usize,
+        /// Where to look from.
+        waypoint: [f64; 2],
+        /// The vantage point that gives.
+        vantage: Vantage,
+    },
+    /// Decide every candidate now (accept those with belief above ½) and go on.
+    Decide,
+}
+
+/// The views of a candidate's vantage grid that the robot can use: where it can stand and see
+/// the candidate, and the detector sees it from.
+pub fn viable_views(c: &Candidate<'_>, grid: &VantageGrid, terrain: &dyn Terrain) -> Vec<View> {
+    grid.vantages
+        .iter()
+        .filter(|v| c.model.sees(v))
+        .map(|v| (*v, v.waypoint(c.position, c.facing)))
+        .filter(|(_, w)| terrain.can_view(*w, c.position))
+        .map(|(vantage, waypoint)| View {
+            vantage,
+            waypoint,
+            ind: c.model.ind_at(&vantage),
+        })
+        .collect()
+}
+
+/// A usable vantage point of a candidate: where the robot stands, and GP_ind's predictions
+/// there (computed once per plan: they do not depend on the history).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct View {
+    /// The vantage point.
+    pub vantage: Vantage,
+    /// The waypoint it puts the robot on.
+    pub waypoint: [f64; 2],
+    /// GP_ind's predictions there.
+    pub ind: IndAt,
+}
