@@ -67,12 +67,14 @@ impl VantageGrid {
     }
 
     /// The grid a planner samples for a class: ranges from [`MIN_RANGE`] to the model's
-    /// largest, aspects within its aspect limit (all round without one).
+    /// largest, aspects within its aspect limit (all round without one), each kept a hair
+    /// inside the limit so that a waypoint's recomputed vantage point is still seen.
     pub fn for_model(m: &SensorModel, n_range: usize, n_aspect: usize) -> Self {
+        let inset = 1.0 - 1e-6;
         Self::regular(
-            [MIN_RANGE.min(m.max_range), m.max_range],
+            [MIN_RANGE.min(m.max_range), m.max_range * inset],
             n_range,
-            m.aspect_limit.unwrap_or(std::f64::consts::PI),
+            m.aspect_limit.map_or(std::f64::consts::PI, |a| a * inset),
             n_aspect,
         )
     }

@@ -19,8 +19,8 @@
 //!    scale factor).
 //!
 //! # Choices where the paper is vague
-//! * GP_corr's two length scales and κ are found by a search over a logarithmic grid (16 × 16,
-//!   then 41 values of κ) rather than by gradient: two and one bounded parameters, a likelihood
+//! * GP_corr's two length scales and κ are found by a search over a logarithmic grid (16 × 16
+//!   refined by 9 × 9 around its best point; 61 values of κ) rather than by gradient: two and one bounded parameters, a likelihood
 //!   summed over many small GPs, and a deterministic answer.
 //! * Table 1's parameters ([`table1`]) belong to the paper's detectors in the paper's
 //!   (unstated) vantage and score units; they are documented for comparison, and a model is
@@ -370,25 +370,40 @@ fn fit_hypothesis(
             .map(|i| lo * (hi / lo).powf(i as f64 / (k - 1) as f64))
             .collect()
     };
-    let mut best = (f64::NEG_INFINITY, [1.0, 0.5]);
-    for lr in grid(0.1, 4.0 * opt.max_range, 16) {
-        for la in grid(0.02, 2.0 * lim, 16) {
-            let k = SeKernel {
-                signal_variance: field_var,
-                length_scales: vec![lr, la],
-            };
-            let mut total = 0.0;
-            for (x, r) in &groups {
-                match Gp::new(k.clone(), white, x.clone(), r.clone()) {
-                    Ok(g) => total += g.log_marginal_likelihood(),
-                    Err(_) => {
-                        total = f64::NEG_INFINITY;
-                        break;
-                    }
-                }
+    let lml = |lr: f64, la: f64| -> f64 {
+        let k = SeKernel {
+            signal_variance: field_var,
+            length_scales: vec![lr, la],
+        };
+        let mut total = 0.0;
+        for (x, r) in &groups {
+            match Gp::new(k.clone(), white, x.clone(), r.clone()) {
+                Ok(g) => total += g.log_marginal_likelihood(),
+                Err(_) => return f64::NEG_INFINITY,
             }
-            if total > best.0 {
-                best = (total, [lr, la]);
+        }
+        total
+    };
+    // A coarse logarithmic grid, then a finer one around its best point.
+    let (r_lo, r_hi, a_lo, a_hi) = (0.1, 4.0 * opt.max_range, 0.02, 2.0 * lim);
+    let coarse = 16;
+    let mut best = (f64::NEG_INFINITY, [1.0, 0.5]);
+    for lr in grid(r_lo, r_hi, coarse) {
+        for la in grid(a_lo, a_hi, coarse) {
+            let v = lml(lr, la);
+            if v > best.0 {
+                best = (v, [lr, la]);
+            }
+        }
+    }
+    let step_r = (r_hi / r_lo).powf(1.0 / (coarse - 1) as f64);
+    let step_a = (a_hi / a_lo).powf(1.0 / (coarse - 1) as f64);
+    let [br, ba] = best.1;
+    for lr in grid(br / step_r, br * step_r, 9) {
+        for la in grid(ba / step_a, ba * step_a, 9) {
+            let v = lml(lr, la);
+            if v > best.0 {
+                best = (v, [lr, la]);
             }
         }
     }
@@ -415,8 +430,8 @@ fn fit_alpha_scale(spec: &SensorModelSpec, looks: &[TrainingLook]) -> Result<f64
         by_feature.entry(l.feature).or_default().push(l);
     }
     let mut best = (f64::NEG_INFINITY, 1.0);
-    for i in 0..41 {
-        let kappa = 0.01 * 10f64.powf(i as f64 * 0.1);
+    for i in 0..61 {
+        let kappa = 1e-3 * 10f64.powf(i as f64 * 0.1);
         let mut s = spec.clone();
         s.kind = ModelKind::Dynamic { alpha_scale: kappa };
         let model = s.build()?;

@@ -31,6 +31,9 @@ pub struct Candidate<'m> {
     pub belief: f64,
     /// The looks taken at it so far.
     pub looks: Vec<Look>,
+    /// Waypoints from which a look at it returned no score (an occlusion the map does not show,
+    /// the edge of what the detector sees): planners do not send the robot there again.
+    pub blind: Vec<[f64; 2]>,
 }
 
 impl<'m> Candidate<'m> {
@@ -47,7 +50,13 @@ impl<'m> Candidate<'m> {
             model,
             belief: prior,
             looks: Vec::new(),
+            blind: Vec::new(),
         }
+    }
+
+    /// A look at it from `waypoint` returned no score: no evidence, and no reason to go back.
+    pub fn unseen_from(&mut self, waypoint: [f64; 2]) {
+        self.blind.push(waypoint);
     }
 
     /// The vantage point of a robot at `waypoint` facing this candidate.
@@ -108,8 +117,15 @@ pub enum Step {
 pub fn viable_views(c: &Candidate<'_>, grid: &VantageGrid, terrain: &dyn Terrain) -> Vec<View> {
     grid.vantages
         .iter()
-        .filter(|v| c.model.sees(v))
-        .map(|v| (*v, v.waypoint(c.position, c.facing)))
+        .map(|v| v.waypoint(c.position, c.facing))
+        // The vantage point as the look will see it (recomputed from the waypoint).
+        .map(|w| (c.vantage(w), w))
+        .filter(|(v, _)| c.model.sees(v))
+        .filter(|(_, w)| {
+            !c.blind
+                .iter()
+                .any(|b| (b[0] - w[0]).hypot(b[1] - w[1]) < BLIND_RADIUS)
+        })
         .filter(|(_, w)| terrain.can_view(*w, c.position))
         .map(|(vantage, waypoint)| View {
             vantage,
@@ -118,6 +134,10 @@ pub fn viable_views(c: &Candidate<'_>, grid: &VantageGrid, terrain: &dyn Terrain
         })
         .collect()
 }
+
+/// Waypoints closer than this (metres) to one from which a candidate was not seen are not
+/// offered again.
+pub const BLIND_RADIUS: f64 = 0.3;
 
 /// A usable vantage point of a candidate: where the robot stands, and GP_ind's predictions
 /// there (computed once per plan: they do not depend on the history).

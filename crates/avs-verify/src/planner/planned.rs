@@ -252,13 +252,14 @@ pub fn plan(
                     score: beliefs[j] * n1 + (1.0 - beliefs[j]) * n0,
                 });
                 count[j] += 1;
-                // The candidate's field with this look in its history.
-                let refreshed = if c.looks.len() + count[j] >= cfg.max_looks {
-                    Vec::new()
-                } else {
-                    field_of(j, &looks[j], sigma[j], &mut evaluations)?
-                };
-                fields[j] = Some(refreshed);
+                // The field the next look is drawn from: the faced candidate's with this look
+                // in its history. (The others seen on the side keep theirs for sampling; their
+                // information above is exact.)
+                if c.looks.len() + count[j] >= cfg.max_looks {
+                    fields[j] = Some(Vec::new());
+                } else if j == i {
+                    fields[j] = Some(field_of(j, &looks[j], sigma[j], &mut evaluations)?);
+                }
             }
             // This prefix as a plan.
             let home = terrain.distance(pos, goal);
