@@ -17,6 +17,50 @@
 //! * [`field`] — perception fields (eq. 7–8) over a vantage grid, by PBD or by enumeration;
 //! * [`planner`] — the planned verifier (Fig. 7) and the GREEDY(τ) baseline;
 //! * [`train`] — fitting a sensor model to labelled looks (§4.2.3).
+//!
+//! ## Example
+//! ```
+//! use avs_verify::gp::SeKernel;
+//! use avs_verify::planner::planned::{plan, PlannedConfig};
+//! use avs_verify::planner::{Candidate, OpenPlane, Step};
+//! use avs_verify::sensor::{CorrModel, ModelKind};
+//! use avs_verify::train::{HypothesisSpec, SensorModelSpec};
+//! use rand::SeedableRng;
+//! // A detector that scores an object about 2 and a look-alike about 0.8 from 1–6 m, each
+//! // feature with its own smooth nuisance field (GP_corr) — in practice `train::train` fits
+//! // this to labelled looks (`avs verify train`).
+//! let hyp = |m: f64| HypothesisSpec {
+//!     mean: m,
+//!     kernel: SeKernel { signal_variance: 0.1, length_scales: vec![2.0, 0.8] },
+//!     noise_variance: 0.01,
+//!     spread: 0.56,
+//!     points: vec![[1.0, 0.0, m], [3.0, 0.0, m], [6.0, 0.0, m]],
+//!     corr: CorrModel {
+//!         kernel: SeKernel { signal_variance: 0.5, length_scales: vec![1.5, 0.4] },
+//!         noise_variance: 0.06,
+//!     },
+//! };
+//! let model = SensorModelSpec {
+//!     kind: ModelKind::Dynamic { alpha_scale: 1.0 },
+//!     max_range: 6.0,
+//!     aspect_limit: Some(1.4),
+//!     object: hyp(2.0),
+//!     no_object: hyp(0.8),
+//! }
+//! .build()
+//! .unwrap();
+//! // The detector fired on a sign 2 m beside the route (facing it) with a middling score.
+//! let mut sign = Candidate::new([4.0, 2.0], Some(-std::f64::consts::FRAC_PI_2), &model, 0.5);
+//! sign.observe([2.0, 0.0], 1.4).unwrap();
+//! // Plan: another look is worth its detour against a 16 m wrong decision.
+//! let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+//! let p = plan(&[sign.clone()], [2.0, 0.0], [12.0, 0.0], &OpenPlane, &PlannedConfig::default(), &mut rng).unwrap();
+//! let Step::Look { waypoint, .. } = p.step else { panic!("expected a look") };
+//! // Object-like scores from there and from a metre and a half further on make it near certain.
+//! sign.observe(waypoint, 2.1).unwrap();
+//! sign.observe([waypoint[0] + 1.5, waypoint[1]], 2.0).unwrap();
+//! assert!(sign.belief > 0.9, "{}", sign.belief);
+//! ```
 #![warn(missing_docs)]
 
 pub mod field;
