@@ -185,21 +185,21 @@ pub fn training_looks(
 const CLUSTER: usize = 4;
 
 /// Train the sensor model a strategy uses for a detector profile on simulated looks
-/// (60 features of each label × 12 looks, seed `seed`).
+/// (100 features of each label × 12 looks, seed `seed`).
 pub fn train_model(
     profile: &ScoreProfile,
     kind: ModelKind,
     seed: u64,
 ) -> Result<SensorModelSpec, EvalError> {
-    let looks = training_looks(profile, 60, 12, seed);
+    let looks = training_looks(profile, 100, 12, seed);
     train(
         &looks,
         &TrainOptions {
             kind,
             max_range: profile.max_range,
             aspect_limit: profile.aspect_limit,
-            range_bins: 8,
-            aspect_bins: 7,
+            range_bins: 12,
+            aspect_bins: 9,
             restarts: 3,
             seed,
         },
@@ -732,8 +732,19 @@ pub fn run_bench(
         seed.wrapping_add(1_000_000),
     )?;
     let model = spec.build().map_err(|e| EvalError::Sim(e.to_string()))?;
+    run_bench_with(world, &model, strategy, trials, seed)
+}
+
+/// [`run_bench`] with a sensor model already trained (or read from a knowledge file).
+pub fn run_bench_with(
+    world: &VerificationWorld,
+    model: &SensorModel,
+    strategy: Strategy,
+    trials: usize,
+    seed: u64,
+) -> Result<BenchReport, EvalError> {
     let results: Vec<TrialResult> = (0..trials as u64)
-        .map(|k| run_trial(world, &model, strategy, seed.wrapping_add(k)))
+        .map(|k| run_trial(world, model, strategy, seed.wrapping_add(k)))
         .collect::<Result<_, _>>()?;
     let col = |f: &dyn Fn(&TrialResult) -> f64| results.iter().map(f).collect::<Vec<f64>>();
     let (precision, precision_se) = mean_se(&col(&|r| r.precision));

@@ -2,7 +2,8 @@
 //! other (with fewer trials than the bench), and impossible candidates.
 
 use avs_eval::verification::{
-    model_kind, profile_of, run_bench, run_trial, train_model, Strategy, VerificationWorld, SHIPPED,
+    model_kind, profile_of, run_bench, run_bench_with, run_trial, train_model, Strategy,
+    VerificationWorld, SHIPPED,
 };
 use avs_format::verification::DetectorName;
 use std::path::Path;
@@ -129,9 +130,17 @@ fn the_planned_verifier_drives_less_than_greedy_and_decides_no_worse_than_its_lo
         ("multi-sign", Strategy::Planned),
     ] {
         let w = VerificationWorld::named_or_file(name).unwrap();
-        let p = run_bench(&w, ours, trials, 100).unwrap();
-        let g8 = run_bench(&w, Strategy::Greedy(0.8), trials, 100).unwrap();
-        let g6 = run_bench(&w, Strategy::Greedy(0.6), trials, 100).unwrap();
+        let d = w.scenario.detector;
+        // One trained model per kind (GREEDY uses the disc model on doors, the dynamic one on
+        // signs: the same kind as ours here).
+        let model = train_model(&profile_of(d), model_kind(ours, d), 7)
+            .unwrap()
+            .build()
+            .unwrap();
+        assert_eq!(model_kind(ours, d), model_kind(Strategy::Greedy(0.8), d));
+        let p = run_bench_with(&w, &model, ours, trials, 100).unwrap();
+        let g8 = run_bench_with(&w, &model, Strategy::Greedy(0.8), trials, 100).unwrap();
+        let g6 = run_bench_with(&w, &model, Strategy::Greedy(0.6), trials, 100).unwrap();
         assert!(
             p.path_length_mean < g8.path_length_mean,
             "{name}: path {:.1} vs GREEDY(0.8) {:.1}",

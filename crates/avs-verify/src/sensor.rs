@@ -146,7 +146,7 @@ impl ScoreGp {
 
     /// The latent mean score at `v`.
     pub fn mean_at(&self, v: &Vantage) -> f64 {
-        self.mean + self.gp.predict(&v.features()).0
+        self.mean + self.gp.predict_mean(&v.features())
     }
 
     /// The predictive distribution of one score at `v`: the latent mean, with the latent
@@ -230,15 +230,21 @@ pub struct IndAt {
     pub predictive: [Normal; 2],
     /// Latent mean score, per `y`.
     pub mean: [f64; 2],
+    /// The variance of GP_ind's estimate of the difference of the two latent means (the sum of
+    /// their latent variances): how far the model's own training leaves it unsure what a look
+    /// here can tell.
+    pub uncertainty: f64,
 }
 
 impl SensorModel {
     /// GP_ind's predictions at `v`.
     pub fn ind_at(&self, v: &Vantage) -> IndAt {
         let p = [self.ind[NO_OBJECT].predict(v), self.ind[OBJECT].predict(v)];
+        let latent = |y: usize| (p[y].var - self.ind[y].spread()).max(0.0);
         IndAt {
             predictive: p,
             mean: [p[0].mean, p[1].mean],
+            uncertainty: latent(NO_OBJECT) + latent(OBJECT),
         }
     }
 
@@ -363,6 +369,7 @@ impl<'m> Conditioned<'m> {
                 self.likelihood_with(v, ind, OBJECT),
             ],
             damping,
+            uncertainty: ind.uncertainty,
         })
     }
 
@@ -382,6 +389,8 @@ pub struct LookModel {
     pub likelihood: [Likelihood; 2],
     /// The fraction of the Bayes update applied (eq. 11), in [0, 1].
     pub damping: f64,
+    /// [`IndAt::uncertainty`] at the look's vantage point.
+    pub uncertainty: f64,
 }
 
 impl LookModel {
@@ -410,11 +419,17 @@ impl LookModel {
     /// under each hypothesis, `s²` the mean of their spreads — the variance of the look's
     /// log-likelihood ratio ([`crate::pbd`]). The disc model scales it by its damping (eq. 11
     /// moves the belief only that fraction of the way).
+    ///
+    /// The squared difference of two estimated means overstates the true one by the variance of
+    /// the estimate, so `(m₁ − m₀)²` is taken less [`LookModel::uncertainty`] (at least 0): a
+    /// planner that seeks the most informative vantage points would otherwise be drawn to where
+    /// the training data are thin and the means' difference is noise (Velez et al. do not say;
+    /// our choice, after the door models' overconfidence at short range).
     pub fn information(&self) -> f64 {
         let n1 = self.likelihood[OBJECT].moments();
         let n0 = self.likelihood[NO_OBJECT].moments();
-        let g = n1.mean - n0.mean;
-        self.damping * g * g / (0.5 * (n1.var + n0.var))
+        let g2 = ((n1.mean - n0.mean).powi(2) - self.uncertainty).max(0.0);
+        self.damping * g2 / (0.5 * (n1.var + n0.var))
     }
 
     /// The range of scores worth enumerating: both hypotheses' means ± `k` standard deviations

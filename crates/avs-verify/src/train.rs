@@ -3,10 +3,12 @@
 //!
 //! Per hypothesis `y`:
 //! 1. **GP_ind** (eq. 13). The looks are binned on a vantage grid (the paper's per-waypoint
-//!    histograms); each bin with two or more looks gives a training point (the bin's mean
-//!    vantage, its mean score). The spread of single scores about their bin's mean, pooled over
-//!    bins, is the variance of one look about the latent mean ([`ScoreGp::spread`]); the
-//!    bin means' noise variance is that spread over the mean bin count. The kernel is fitted by
+//!    histograms); each bin with looks of two or more features gives a training point (the mean
+//!    over its features of their mean vantage and score: looks of one feature share its nuisance
+//!    field, so a feature counts once). The spread of single scores about their bin's mean,
+//!    pooled over bins, is the variance of one look about the latent mean
+//!    ([`ScoreGp::spread`]); the bin means' noise variance is that spread over the median number
+//!    of features per bin. The kernel is fitted by
 //!    maximum likelihood ([`Gp::fit`]) from a first start at Table 1's values and seeded restarts.
 //! 2. **GP_corr** (eq. 14). The residuals of each feature's looks about GP_ind's mean are one
 //!    sample of that feature's residual field. The white noise is half the mean squared
@@ -20,7 +22,8 @@
 //!
 //! # Choices where the paper is vague
 //! * GP_corr's two length scales and κ are found by a search over a logarithmic grid (16 × 16
-//!   refined by 9 × 9 around its best point; 61 values of κ) rather than by gradient: two and one bounded parameters, a likelihood
+//!   refined by 9 × 9 around its best point; κ by half decades, then golden section) rather
+//!   than by gradient: two and one bounded parameters, a likelihood
 //!   summed over many small GPs, and a deterministic answer.
 //! * Table 1's parameters ([`table1`]) belong to the paper's detectors in the paper's
 //!   (unstated) vantage and score units; they are documented for comparison, and a model is
@@ -279,25 +282,47 @@ fn fit_hypothesis(
     let mut points = Vec::new();
     let mut ss = 0.0;
     let mut dof = 0.0;
-    let mut counts = 0.0;
-    for b in bins.iter().filter(|b| b.len() >= 2) {
+    let mut features_per_bin = Vec::new();
+    for b in &bins {
+        // Looks of one feature share its nuisance field: a bin's mean is the mean of its
+        // features' means, and it is as noisy as the number of features in it says, not the
+        // number of looks.
+        let mut by_feature: std::collections::BTreeMap<usize, (f64, f64, f64, f64)> =
+            Default::default();
+        for l in b {
+            let e = by_feature.entry(l.feature).or_default();
+            e.0 += l.score;
+            e.1 += l.vantage.range;
+            e.2 += l.vantage.aspect;
+            e.3 += 1.0;
+        }
+        if by_feature.len() < 2 {
+            continue;
+        }
         let k = b.len() as f64;
-        let zm = b.iter().map(|l| l.score).sum::<f64>() / k;
-        let rm = b.iter().map(|l| l.vantage.range).sum::<f64>() / k;
-        let am = b.iter().map(|l| l.vantage.aspect).sum::<f64>() / k;
-        ss += b.iter().map(|l| (l.score - zm).powi(2)).sum::<f64>();
+        let zm_looks = b.iter().map(|l| l.score).sum::<f64>() / k;
+        ss += b.iter().map(|l| (l.score - zm_looks).powi(2)).sum::<f64>();
         dof += k - 1.0;
-        counts += k;
+        let nf = by_feature.len() as f64;
+        let (mut zm, mut rm, mut am) = (0.0, 0.0, 0.0);
+        for (z, r, a, n) in by_feature.values() {
+            zm += z / n / nf;
+            rm += r / n / nf;
+            am += a / n / nf;
+        }
+        features_per_bin.push(nf);
         points.push([rm, am, zm]);
     }
     if points.len() < 2 {
         return Err(VerifyError::Invalid {
             field: "training looks".into(),
-            message: "fewer than two vantage bins hold two looks; take more looks".into(),
+            message: "fewer than two vantage bins hold looks of two features; take more looks"
+                .into(),
         });
     }
     let spread = (ss / dof).max(1e-6);
-    let noise_variance = spread / (counts / points.len() as f64);
+    features_per_bin.sort_by(f64::total_cmp);
+    let noise_variance = spread / features_per_bin[features_per_bin.len() / 2];
     let x: Vec<Vec<f64>> = points.iter().map(|p| vec![p[0], p[1]]).collect();
     let y: Vec<f64> = points.iter().map(|p| p[2] - mean).collect();
     let var_y = y.iter().map(|v| v * v).sum::<f64>() / y.len() as f64;
@@ -423,17 +448,18 @@ fn fit_hypothesis(
     })
 }
 
-/// κ of eq. 17 by maximum likelihood of every feature's looks in order.
+/// κ of eq. 17 by maximum likelihood of every feature's looks in order: a grid of half decades
+/// over [10⁻³, 10³] brackets the best, golden-section search refines it in log κ.
 fn fit_alpha_scale(spec: &SensorModelSpec, looks: &[TrainingLook]) -> Result<f64, VerifyError> {
     let mut by_feature: std::collections::BTreeMap<usize, Vec<&TrainingLook>> = Default::default();
     for l in looks {
         by_feature.entry(l.feature).or_default().push(l);
     }
-    let mut best = (f64::NEG_INFINITY, 1.0);
-    for i in 0..61 {
-        let kappa = 1e-3 * 10f64.powf(i as f64 * 0.1);
+    let loglik = |log_kappa: f64| -> Result<f64, VerifyError> {
         let mut s = spec.clone();
-        s.kind = ModelKind::Dynamic { alpha_scale: kappa };
+        s.kind = ModelKind::Dynamic {
+            alpha_scale: 10f64.powf(log_kappa),
+        };
         let model = s.build()?;
         let mut total = 0.0;
         for ls in by_feature.values() {
@@ -449,9 +475,41 @@ fn fit_alpha_scale(spec: &SensorModelSpec, looks: &[TrainingLook]) -> Result<f64
                 });
             }
         }
-        if total > best.0 {
-            best = (total, kappa);
+        Ok(total)
+    };
+    let (lo, hi) = (-3.0, 3.0);
+    let mut best = (f64::NEG_INFINITY, lo);
+    for i in 0..13 {
+        let t = lo + 0.5 * i as f64;
+        let v = loglik(t)?;
+        if v > best.0 {
+            best = (v, t);
         }
     }
-    Ok(best.1)
+    // Golden-section search on [best − ½, best + ½] (clipped to the range).
+    let (mut a, mut b) = ((best.1 - 0.5).max(lo), (best.1 + 0.5).min(hi));
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
+    let (mut fc, mut fd) = (loglik(c)?, loglik(d)?);
+    for _ in 0..12 {
+        if fc > fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - g * (b - a);
+            fc = loglik(c)?;
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + g * (b - a);
+            fd = loglik(d)?;
+        }
+    }
+    for (v, t) in [(fc, c), (fd, d)] {
+        if v > best.0 {
+            best = (v, t);
+        }
+    }
+    Ok(10f64.powf(best.1))
 }

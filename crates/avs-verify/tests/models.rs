@@ -144,6 +144,7 @@ fn the_field_vanishes_where_the_robot_already_looked_and_not_elsewhere() {
             .vantages
             .iter()
             .enumerate()
+            .filter(|(k, _)| before[*k] > 0.0)
             .max_by(|a, b| {
                 let d = |v: &Vantage| avs_verify::sensor::waypoint_distance(v, &looked);
                 d(a.1).total_cmp(&d(b.1))

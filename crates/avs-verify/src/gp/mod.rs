@@ -467,6 +467,24 @@ impl Gp {
         (mean, (sv - vv).max(0.0))
     }
 
+    /// The mean of the latent `f(xq)` alone: `O(n)`, where [`predict`](Self::predict)'s
+    /// variance costs `O(n²)`.
+    ///
+    /// # Panics
+    /// If `xq` does not have [`SeKernel::dim`] coordinates.
+    pub fn predict_mean(&self, xq: &[f64]) -> f64 {
+        assert_eq!(
+            xq.len(),
+            self.kernel.dim(),
+            "Gp::predict_mean: the query point has the wrong number of coordinates"
+        );
+        self.x
+            .iter()
+            .zip(self.factor.alpha.iter())
+            .map(|(x, a)| self.kernel.eval(x, xq) * a)
+            .sum()
+    }
+
     /// [`predict`](Self::predict) at many points with one triangular solve for all of them.
     ///
     /// # Panics

@@ -448,3 +448,22 @@ fn the_blocked_triangular_solve_matches_forward_substitution() {
         );
     }
 }
+
+#[test]
+fn the_mean_alone_is_the_mean_of_predict() {
+    let k = SeKernel {
+        signal_variance: 1.3,
+        length_scales: vec![0.7, 2.0],
+    };
+    let x = vec![
+        vec![0.0, 0.0],
+        vec![1.0, 0.5],
+        vec![2.0, -1.0],
+        vec![0.3, 3.0],
+    ];
+    let y = vec![0.5, -1.0, 2.0, 0.1];
+    let gp = Gp::new(k, 0.05, x, y).unwrap();
+    for q in [[0.2, 0.1], [1.5, -0.5], [5.0, 5.0]] {
+        assert!((gp.predict_mean(&q) - gp.predict(&q).0).abs() < 1e-12);
+    }
+}
