@@ -1,7 +1,7 @@
 //! Posterior belief distributions (Velez et al. 2012 §6, after He, Brunskill & Roy 2011): the
 //! belief about a candidate treated as normal in the exponential family's natural parameter,
-//! updated by the exponential-family Kalman filter (eq. 25–31), and its covariance after `T`
-//! future looks in closed form, without enumerating their scores (eq. 32):
+//! and its covariance after `T` future looks in closed form, without enumerating their scores
+//! (eq. 32, the exponential-family Kalman filter's covariance update, eq. 28, summed):
 //!
 //! `Σ_{n+T} = (Σ_n⁻¹ + Σ_{i=1..T} G_i b̈_i G_iᵀ)⁻¹`.
 //!
@@ -9,7 +9,8 @@
 //! information alone. In log-odds, each look adds its log-likelihood ratio; for a look whose
 //! score is normal under each hypothesis with means `m₀, m₁` and a common spread `s²`, that ratio
 //! is normal with mean `±d²/2` and variance `d²` under `y = 1 / 0`, `d² = (m₁ − m₀)² / s²` (the
-//! look's `G b̈ Gᵀ`, [`crate::sensor::LookModel::information`]). Information adds over looks (eq. 32), so after
+//! look's `G b̈ Gᵀ`, [`crate::sensor::LookModel::information`]). Information adds over looks
+//! (eq. 32), so after
 //! looks of total `D² = Σ d²` the final log-odds is `ℓ₀ + Λ`, `Λ | y ~ N(±D²/2, D²)`, and the
 //! decision (accept when `ℓ > 0`) is wrong with probability
 //! `P_err = p Φ((−ℓ₀ − D²/2)/D) + (1 − p) Φ((ℓ₀ − D²/2)/D)` — the Bayes risk, in closed form,
@@ -21,6 +22,9 @@
 //!   looks add (the exponential family's natural parameter), and read the decision cost off the
 //!   normal law of the accumulated log-likelihood ratio rather than off a normal over a
 //!   probability (which cannot reach certainty: its variance is at most `p (1 − p)`).
+//! * **The belief itself** is updated exactly, by Bayes' rule on each score (eq. 6 with eq. 9
+//!   or 11, [`crate::sensor::LookModel::posterior`]); the efKF's mean update (eq. 27) would only
+//!   approximate it. PBD is used where the scores are not known yet: looking ahead.
 //! * **Σ_n for the field.** [`covariance_of`] gives the Bernoulli variance `p (1 − p)` as the
 //!   prior covariance of eq. 32 when the perception field is computed by PBD
 //!   ([`crate::field`]).
