@@ -571,9 +571,10 @@ pub fn run_trial<'m>(
                     let leg = shortest_path(&world.trav, pos, waypoint, 0.5)
                         .map_or(f64::INFINITY, |p| p.length);
                     if !leg.is_finite() {
-                        // The planner's straight-line view of the map was wrong; settle.
-                        settle(&mut open);
-                        break;
+                        // The robot cannot get there (the planner's terrain is coarser than the
+                        // robot's paths): no look from there, and no going back.
+                        open[idx[candidate]].candidate.unseen_from(waypoint);
+                        continue;
                     }
                     path += leg;
                     pos = waypoint;

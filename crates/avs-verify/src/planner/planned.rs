@@ -183,6 +183,11 @@ pub fn plan(
         initial.push(field_of(i, &c.looks, sigma0[i], &mut evaluations)?);
     }
     let direct = terrain.distance(robot, goal);
+    if !direct.is_finite() {
+        // No route to the goal to cost detours against: decide now.
+        best.field_evaluations = evaluations;
+        return Ok(best);
+    }
     for _ in 0..cfg.samples {
         let mut fields: Vec<Option<Vec<Sampled>>> = vec![None; candidates.len()];
         let mut looks: Vec<Vec<Look>> = Vec::new();
