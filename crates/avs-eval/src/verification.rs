@@ -32,6 +32,7 @@ use avs_sim::detector::{CorrelatedDetector, Feature, ScoreProfile};
 use avs_verify::field::{perception_field, FieldMethod, PreparedGrid, VantageGrid};
 use avs_verify::planner::greedy::{self, GreedyConfig};
 use avs_verify::planner::planned::{self, PlannedConfig};
+use avs_verify::planner::rtbss::{self, RtbssConfig};
 use avs_verify::planner::{Candidate, Step, Terrain};
 use avs_verify::sensor::{ModelKind, SensorModel};
 use avs_verify::train::{train, SensorModelSpec, TrainOptions, TrainingLook};
@@ -52,14 +53,17 @@ pub enum Strategy {
     PlannedDisc,
     /// GREEDY(τ) with the scenario detector's default model.
     Greedy(f64),
+    /// RTBSS with the independent model on a 2.5 m grid.
+    Rtbss,
 }
 
 impl Strategy {
-    /// Parse `planned`, `planned-disc` or `greedy:TAU` (τ in (0.5, 1)).
+    /// Parse `planned`, `planned-disc`, `greedy:TAU` (τ in (0.5, 1)) or `rtbss`.
     pub fn parse(s: &str) -> Result<Self, String> {
         match s {
             "planned" => Ok(Self::Planned),
             "planned-disc" => Ok(Self::PlannedDisc),
+            "rtbss" => Ok(Self::Rtbss),
             _ => {
                 if let Some(t) = s.strip_prefix("greedy:") {
                     let tau: f64 = t
@@ -71,7 +75,7 @@ impl Strategy {
                     Ok(Self::Greedy(tau))
                 } else {
                     Err(format!(
-                        "unknown strategy `{s}`: expected planned, planned-disc or greedy:TAU"
+                        "unknown strategy `{s}`: expected planned, planned-disc, greedy:TAU or rtbss"
                     ))
                 }
             }
@@ -84,6 +88,7 @@ impl Strategy {
             Self::Planned => "planned".into(),
             Self::PlannedDisc => "planned-disc".into(),
             Self::Greedy(t) => format!("greedy:{t}"),
+            Self::Rtbss => "rtbss".into(),
         }
     }
 }
@@ -98,7 +103,8 @@ pub fn profile_of(d: DetectorName) -> ScoreProfile {
 }
 
 /// The model a strategy uses for a detector: the dynamic model for `planned`, the disc model
-/// for `planned-disc`, and for GREEDY the paper's pairing (disc for doors, dynamic otherwise).
+/// for `planned-disc`, for GREEDY the paper's pairing (disc for doors, dynamic otherwise), and
+/// the independent model for RTBSS.
 pub fn model_kind(strategy: Strategy, d: DetectorName) -> ModelKind {
     let disc = ModelKind::Disc { d_max: 3.0 };
     let dynamic = ModelKind::Dynamic { alpha_scale: 1.0 };
@@ -107,6 +113,7 @@ pub fn model_kind(strategy: Strategy, d: DetectorName) -> ModelKind {
         (Strategy::PlannedDisc, _) => disc,
         (Strategy::Greedy(_), DetectorName::Door) => disc,
         (Strategy::Greedy(_), _) => dynamic,
+        (Strategy::Rtbss, _) => ModelKind::Independent,
     }
 }
 
@@ -560,6 +567,16 @@ pub fn run_trial<'m>(
                     },
                 )
                 .map_err(|e| EvalError::Sim(e.to_string()))?,
+                Strategy::Rtbss => rtbss::plan(
+                    &cands,
+                    pos,
+                    &terrain,
+                    &RtbssConfig {
+                        depth: planned_cfg.depth.min(3),
+                        ..RtbssConfig::default()
+                    },
+                )
+                .map_err(|e| EvalError::Sim(e.to_string()))?,
             };
             match step {
                 Step::Look {
@@ -586,6 +603,10 @@ pub fn run_trial<'m>(
                     if open[faced].candidate.looks.len() == before {
                         open[faced].candidate.unseen_from(pos);
                     }
+                }
+                Step::Settle { candidate } => {
+                    let o = &mut open[idx[candidate]];
+                    o.decided = Some(o.candidate.belief > 0.5);
                 }
                 _ => settle(&mut open),
             }

@@ -15,7 +15,7 @@
 //! * [`pbd`] — posterior belief distributions: the belief's covariance after future looks
 //!   without enumerating their scores (eq. 25–32) and the expected decision cost from it;
 //! * [`field`] — perception fields (eq. 7–8) over a vantage grid, by PBD or by enumeration;
-//! * [`planner`] — the planned verifier (Fig. 7) and the GREEDY(τ) baseline;
+//! * [`planner`] — the planned verifier (Fig. 7) and the GREEDY(τ) and RTBSS baselines;
 //! * [`train`] — fitting a sensor model to labelled looks (§4.2.3).
 //!
 //! ## Example

@@ -332,3 +332,33 @@ fn greedy_looks_until_the_belief_passes_its_threshold() {
     );
     assert!(looks >= 1);
 }
+
+#[test]
+fn rtbss_settles_a_near_certain_candidate_and_looks_at_an_uncertain_one() {
+    use avs_verify::planner::rtbss::{self, RtbssConfig};
+    let m = model(DYNAMIC);
+    let cfg = RtbssConfig::default();
+    let sure = Candidate::new([3.0, 2.0], Some(-std::f64::consts::FRAC_PI_2), &m, 0.998);
+    assert_eq!(
+        rtbss::plan(&[sure], [0.0, 0.0], &OpenPlane, &cfg).unwrap(),
+        Step::Settle { candidate: 0 }
+    );
+    let unsure = Candidate::new([3.0, 2.0], Some(-std::f64::consts::FRAC_PI_2), &m, 0.5);
+    let Step::Look {
+        candidate, vantage, ..
+    } = rtbss::plan(std::slice::from_ref(&unsure), [0.0, 0.0], &OpenPlane, &cfg).unwrap()
+    else {
+        panic!("expected a look at an even-odds candidate")
+    };
+    assert_eq!(candidate, 0);
+    assert!(m.sees(&vantage));
+    // Deterministic, and nothing to do without an open candidate.
+    assert_eq!(
+        rtbss::plan(std::slice::from_ref(&unsure), [0.0, 0.0], &OpenPlane, &cfg).unwrap(),
+        rtbss::plan(std::slice::from_ref(&unsure), [0.0, 0.0], &OpenPlane, &cfg).unwrap()
+    );
+    assert_eq!(
+        rtbss::plan(&[], [0.0, 0.0], &OpenPlane, &cfg).unwrap(),
+        Step::Decide
+    );
+}

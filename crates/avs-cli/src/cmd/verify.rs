@@ -14,7 +14,7 @@ pub struct BenchArgs {
     /// A shipped scenario (single-door, multi-door, single-sign, multi-sign) or a scenario file.
     #[arg(long)]
     pub scenario: String,
-    /// planned, planned-disc or greedy:TAU.
+    /// planned, planned-disc, greedy:TAU or rtbss.
     #[arg(long, default_value = "planned")]
     pub strategy: String,
     /// Number of trials (seeds SEED, SEED+1, …).

@@ -4,13 +4,16 @@
 //! * [`planned`] — Velez et al.'s REPLANONNEWDETECTION (Fig. 7): sampled look sequences, each
 //!   costed by its extra motion plus the expected decision cost after it (eq. 1, 20, 32);
 //! * [`greedy`] — the GREEDY(τ) baseline (§8.1): the best field point of each undecided
-//!   candidate until its belief passes τ.
+//!   candidate until its belief passes τ;
+//! * [`rtbss`] — the RTBSS baseline (§8.1): an online POMDP search with the independent model
+//!   on a 2.5 m grid.
 //!
 //! A planner is called again after every look (the new score may change everything), so it
 //! returns one [`Step`]: the next look, or the decision.
 
 pub mod greedy;
 pub mod planned;
+pub mod rtbss;
 
 use crate::field::VantageGrid;
 use crate::sensor::{IndAt, Look, SensorModel};
@@ -110,6 +113,11 @@ pub enum Step {
     },
     /// Decide every candidate now (accept those with belief above ½) and go on.
     Decide,
+    /// Decide candidate `candidate` alone now (accept it if its belief is above ½).
+    Settle {
+        /// Index of the candidate decided.
+        candidate: usize,
+    },
 }
 
 /// The views of a candidate's vantage grid that the robot can use: where it can stand and see
