@@ -23,7 +23,6 @@
 //!   the planners cost legs by the straight line when it is clear, else by the grid path.
 
 use crate::EvalError;
-use avs_format::environment::MapSource;
 use avs_format::verification::{DetectorName, VerificationScenario};
 use avs_map::grid::OccupancyGrid;
 use avs_map::nav::{shortest_path, Traversability};
@@ -277,21 +276,12 @@ impl VerificationWorld {
     /// Check and build a scenario from its text (`file` names it in errors, `dir` resolves an
     /// image map).
     pub fn from_text(file: &str, text: &str, dir: &Path) -> Result<Self, EvalError> {
-        let ds = avs_format::verification::check(file, text);
-        if !ds.is_empty() {
-            return Err(avs_format::LoadError { diagnostics: ds }.into());
-        }
-        let sc: VerificationScenario = avs_format::load_yaml_str(file, text)?;
-        Self::new(sc, file, dir)
+        let sc = avs_format::verification::parse(file, text)?;
+        Self::build(sc, file, dir)
     }
 
     /// Build from a parsed scenario (`file` names it in errors; `dir` resolves an image map).
     pub fn new(scenario: VerificationScenario, file: &str, dir: &Path) -> Result<Self, EvalError> {
-        let field = |field: &str, message: String| EvalError::Field {
-            file: file.to_string(),
-            field: field.to_string(),
-            message,
-        };
         let problems = scenario.check_fields(file);
         if !problems.is_empty() {
             return Err(avs_format::LoadError {
@@ -299,22 +289,18 @@ impl VerificationWorld {
             }
             .into());
         }
-        let grid = match &scenario.map {
-            MapSource::Ascii(a) => OccupancyGrid::from_ascii(&a.ascii, a.resolution, a.origin)
-                .map_err(|e| field("map", e.to_string()))?,
-            MapSource::Ros(r) => {
-                let img = dir.join(&r.image);
-                OccupancyGrid::from_image(
-                    &img,
-                    r.resolution,
-                    [r.origin[0], r.origin[1]],
-                    r.negate != 0,
-                    r.occupied_thresh,
-                    r.free_thresh,
-                )
-                .map_err(|e| field("map.image", e.to_string()))?
-            }
+        Self::build(scenario, file, dir)
+    }
+
+    /// [`VerificationWorld::new`] for a scenario whose fields are already checked.
+    fn build(scenario: VerificationScenario, file: &str, dir: &Path) -> Result<Self, EvalError> {
+        let field = |field: &str, message: String| EvalError::Field {
+            file: file.to_string(),
+            field: field.to_string(),
+            message,
         };
+        let grid =
+            avs_sim::load_map(&scenario.map, dir).map_err(|e| field("map", e.to_string()))?;
         if grid.width() * grid.height() > 4_000_000 {
             return Err(field(
                 "map",

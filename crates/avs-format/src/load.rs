@@ -181,6 +181,34 @@ pub fn load_yaml_str_explained<T: DeserializeOwned + schemars::JsonSchema>(
     })
 }
 
+/// Parse a file's text as a `T` ([`load_yaml_str_explained`]), then run its field checks
+/// `fields(&t, file)` and locate what they report in the text: the one home of every
+/// `check` that `avs validate` runs on a kind of file. The value, or every problem found.
+pub fn parse_checked<T: DeserializeOwned + schemars::JsonSchema>(
+    file: &str,
+    text: &str,
+    fields: impl Fn(&T, &str) -> Vec<Diagnostic>,
+) -> Result<T, LoadError> {
+    let t = load_yaml_str_explained::<T>(file, text)?;
+    let mut diagnostics = fields(&t, file);
+    if diagnostics.is_empty() {
+        return Ok(t);
+    }
+    crate::positions::locate(&mut diagnostics, text);
+    Err(LoadError { diagnostics })
+}
+
+/// The problems [`parse_checked`] finds (empty when the text is valid).
+pub fn check_with<T: DeserializeOwned + schemars::JsonSchema>(
+    file: &str,
+    text: &str,
+    fields: impl Fn(&T, &str) -> Vec<Diagnostic>,
+) -> Vec<Diagnostic> {
+    parse_checked(file, text, fields)
+        .err()
+        .map_or_else(Vec::new, |e| e.diagnostics)
+}
+
 /// Rewrite the `expected` half of each "missing field `f`" diagnostic (as [`load_yaml_str`]
 /// makes them, with paths relative to a `T`) from `T`'s JSON Schema: the field's description and
 /// the required and optional fields of the section it is missing from, e.g. "the field

@@ -207,14 +207,7 @@ impl Scenario {
 /// Parse and check a scenario file's text, returning every problem found (empty when valid),
 /// each located in the text where the field is.
 pub fn check(file: &str, text: &str) -> Vec<Diagnostic> {
-    match crate::load::load_yaml_str_explained::<Scenario>(file, text) {
-        Ok(sc) => {
-            let mut ds = sc.check_fields(file);
-            crate::positions::locate(&mut ds, text);
-            ds
-        }
-        Err(e) => e.diagnostics,
-    }
+    crate::load::check_with(file, text, Scenario::check_fields)
 }
 
 #[cfg(test)]

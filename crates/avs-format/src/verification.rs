@@ -83,6 +83,18 @@ pub enum DetectorName {
     Generic,
 }
 
+impl std::str::FromStr for DetectorName {
+    type Err = String;
+
+    /// The name as written in files (`door`, `sign`, `generic`).
+    fn from_str(s: &str) -> Result<Self, String> {
+        [Self::Door, Self::Sign, Self::Generic]
+            .into_iter()
+            .find(|d| d.as_str() == s)
+            .ok_or_else(|| format!("`{s}`: expected door, sign or generic"))
+    }
+}
+
 impl DetectorName {
     /// The name as written in files.
     pub fn as_str(self) -> &'static str {
@@ -189,14 +201,12 @@ impl VerificationScenario {
 
 /// Parse and check a verification scenario's text: what `avs validate` runs.
 pub fn check(file: &str, text: &str) -> Vec<Diagnostic> {
-    match crate::load::load_yaml_str_explained::<VerificationScenario>(file, text) {
-        Ok(sc) => {
-            let mut ds = sc.check_fields(file);
-            crate::positions::locate(&mut ds, text);
-            ds
-        }
-        Err(e) => e.diagnostics,
-    }
+    crate::load::check_with(file, text, VerificationScenario::check_fields)
+}
+
+/// Parse and check a verification scenario's text: the scenario, or every problem found.
+pub fn parse(file: &str, text: &str) -> Result<VerificationScenario, crate::LoadError> {
+    crate::load::parse_checked(file, text, VerificationScenario::check_fields)
 }
 
 #[cfg(test)]

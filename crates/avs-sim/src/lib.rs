@@ -44,4 +44,4 @@ pub mod world;
 
 pub use explore::Explorer;
 pub use robot::{Motion, SimRobot};
-pub use world::{load_grid, CameraView, SimError, ViewedObject, World};
+pub use world::{load_grid, load_map, CameraView, SimError, ViewedObject, World};

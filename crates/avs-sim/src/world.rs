@@ -31,7 +31,12 @@ pub enum SimError {
 /// The occupancy grid of an environment; `base_dir` is the folder of the environment file
 /// (image paths are relative to it).
 pub fn load_grid(env: &Environment, base_dir: &Path) -> Result<OccupancyGrid, SimError> {
-    Ok(match &env.map {
+    load_map(&env.map, base_dir)
+}
+
+/// The occupancy grid of a file's `map:` section (an image path is relative to `base_dir`).
+pub fn load_map(map: &MapSource, base_dir: &Path) -> Result<OccupancyGrid, SimError> {
+    Ok(match map {
         MapSource::Ascii(a) => OccupancyGrid::from_ascii(&a.ascii, a.resolution, a.origin)?,
         MapSource::Ros(r) => OccupancyGrid::from_image(
             &base_dir.join(&r.image),

@@ -355,10 +355,7 @@ fn fit_hypothesis(
             .collect::<Vec<_>>(),
     )?;
     // 2. GP_corr on the residuals, grouped by feature.
-    let mut by_feature: std::collections::BTreeMap<usize, Vec<&TrainingLook>> = Default::default();
-    for l in looks {
-        by_feature.entry(l.feature).or_default().push(l);
-    }
+    let by_feature = group_by_feature(looks.iter().copied());
     let mut pair_sq = 0.0;
     let mut pairs = 0.0;
     let mut res_sq = 0.0;
@@ -448,13 +445,21 @@ fn fit_hypothesis(
     })
 }
 
-/// κ of eq. 17 by maximum likelihood of every feature's looks in order: a grid of half decades
-/// over [10⁻³, 10³] brackets the best, golden-section search refines it in log κ.
-fn fit_alpha_scale(spec: &SensorModelSpec, looks: &[TrainingLook]) -> Result<f64, VerifyError> {
+/// Looks grouped by feature, in feature order (each group in the order taken).
+fn group_by_feature<'a>(
+    looks: impl Iterator<Item = &'a TrainingLook>,
+) -> std::collections::BTreeMap<usize, Vec<&'a TrainingLook>> {
     let mut by_feature: std::collections::BTreeMap<usize, Vec<&TrainingLook>> = Default::default();
     for l in looks {
         by_feature.entry(l.feature).or_default().push(l);
     }
+    by_feature
+}
+
+/// κ of eq. 17 by maximum likelihood of every feature's looks in order: a grid of half decades
+/// over [10⁻³, 10³] brackets the best, golden-section search refines it in log κ.
+fn fit_alpha_scale(spec: &SensorModelSpec, looks: &[TrainingLook]) -> Result<f64, VerifyError> {
+    let by_feature = group_by_feature(looks.iter());
     let loglik = |log_kappa: f64| -> Result<f64, VerifyError> {
         let mut s = spec.clone();
         s.kind = ModelKind::Dynamic {

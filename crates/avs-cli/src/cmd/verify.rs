@@ -83,12 +83,10 @@ pub fn bench(a: BenchArgs) -> anyhow::Result<ExitCode> {
 pub fn run(c: Command) -> anyhow::Result<ExitCode> {
     match c {
         Command::Train(a) => {
-            let detector = match a.detector.as_str() {
-                "door" => DetectorName::Door,
-                "sign" => DetectorName::Sign,
-                "generic" => DetectorName::Generic,
-                other => anyhow::bail!("--detector {other}: expected door, sign or generic"),
-            };
+            let detector: DetectorName = a
+                .detector
+                .parse()
+                .map_err(|e| anyhow::anyhow!("--detector {e}"))?;
             let strategy =
                 Strategy::parse(&a.strategy).map_err(|e| anyhow::anyhow!("--strategy {e}"))?;
             let spec = train_model(

@@ -119,7 +119,6 @@ pub fn plan(
 ) -> Result<Plan, VerifyError> {
     let beliefs: Vec<f64> = candidates.iter().map(|c| c.belief).collect();
     let sigma0: Vec<f64> = beliefs.iter().map(|&p| covariance_of(p)).collect();
-    let info0 = vec![0.0; candidates.len()];
     let decision_now: f64 = beliefs.iter().map(|&p| cfg.costs.now(p)).sum();
     let mut best = Plan {
         step: Step::Decide,
@@ -190,9 +189,9 @@ pub fn plan(
     }
     for _ in 0..cfg.samples {
         let mut fields: Vec<Option<Vec<Sampled>>> = vec![None; candidates.len()];
-        let mut looks: Vec<Vec<Look>> = Vec::new();
+        let mut looks: Vec<Vec<Look>> = candidates.iter().map(|c| c.looks.clone()).collect();
         let mut sigma = sigma0.clone();
-        let mut info = info0.clone();
+        let mut info = vec![0.0; candidates.len()];
         let mut count = vec![0usize; candidates.len()];
         let mut pos = robot;
         let mut path = 0.0;
@@ -223,9 +222,6 @@ pub fn plan(
             path += leg;
             pos = waypoint;
             seq.push((i, v.vantage, waypoint));
-            if looks.len() < candidates.len() {
-                looks = candidates.iter().map(|c| c.looks.clone()).collect();
-            }
             // The image sees the candidate faced and every other one in its field of view.
             let target = candidates[i].position;
             let heading = (target[1] - waypoint[1]).atan2(target[0] - waypoint[0]);
