@@ -100,7 +100,7 @@ fn validate_accepts_the_shipped_scenarios_and_names_a_bad_field() {
 }
 
 #[test]
-fn verify_train_prints_a_sensor_model_that_builds() {
+fn verify_train_prints_a_knowledge_sensor_models_block_that_builds() {
     let o = avs(&[
         "verify",
         "train",
@@ -112,19 +112,18 @@ fn verify_train_prints_a_sensor_model_that_builds() {
         "2",
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // A knowledge file's `sensor_models` block, named after the detector.
     #[derive(serde::Deserialize)]
     struct Block {
-        detector: String,
-        sensor_model: avs_verify::train::SensorModelSpec,
+        sensor_models: Vec<avs_format::verifier::NamedSensorModel>,
     }
     let b: Block = serde_yaml::from_slice(&o.stdout).unwrap();
-    assert_eq!(b.detector, "door");
-    assert!(matches!(
-        b.sensor_model.kind,
-        avs_verify::sensor::ModelKind::Disc { .. }
-    ));
-    assert!(b.sensor_model.problems().is_empty());
-    b.sensor_model.build().unwrap();
+    assert_eq!(b.sensor_models.len(), 1);
+    assert_eq!(b.sensor_models[0].name, "door");
+    let m = &b.sensor_models[0].model;
+    assert!(matches!(m.kind, avs_verify::sensor::ModelKind::Disc { .. }));
+    assert!(m.problems().is_empty());
+    avs_verify::sensor::SensorModel::from_spec(m).unwrap();
     let o = avs(&["verify", "train", "--detector", "lamp"]);
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--detector"));

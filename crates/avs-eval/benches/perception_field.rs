@@ -23,7 +23,7 @@ fn fields(c: &mut Criterion) {
             Strategy::Planned
         };
         let spec = train_model(&profile_of(detector), model_kind(strategy, detector), 1).unwrap();
-        let model = spec.build().unwrap();
+        let model = avs_verify::sensor::SensorModel::from_spec(&spec).unwrap();
         let grid = PreparedGrid::new(&model, VantageGrid::for_model(&model, 8, 13));
         let looks = [
             Look {

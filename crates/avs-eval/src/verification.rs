@@ -26,20 +26,18 @@ use crate::EvalError;
 use avs_format::verification::{DetectorName, VerificationScenario};
 use avs_map::grid::OccupancyGrid;
 use avs_map::nav::{shortest_path, Traversability};
-use avs_map::raycast::{cells_on_segment, line_of_sight};
+use avs_map::raycast::line_of_sight;
 use avs_sim::detector::{CorrelatedDetector, Feature, ScoreProfile};
 use avs_verify::field::{perception_field, FieldMethod, PreparedGrid, VantageGrid};
-use avs_verify::planner::greedy::{self, GreedyConfig};
-use avs_verify::planner::planned::{self, PlannedConfig};
-use avs_verify::planner::rtbss::{self, RtbssConfig};
-use avs_verify::planner::{Candidate, Step, Terrain};
+use avs_verify::planner::greedy::GreedyConfig;
+use avs_verify::planner::planned::PlannedConfig;
+use avs_verify::planner::rtbss::RtbssConfig;
+use avs_verify::planner::{Candidate, GridTerrain, Step, Verifier};
 use avs_verify::sensor::{ModelKind, SensorModel};
 use avs_verify::train::{train, SensorModelSpec, TrainOptions, TrainingLook};
 use avs_verify::vantage::Vantage;
 use rand::{Rng, SeedableRng};
 use serde::Serialize;
-use std::cell::RefCell;
-use std::collections::HashMap;
 use std::path::Path;
 use std::time::Instant;
 
@@ -362,44 +360,6 @@ impl VerificationWorld {
 }
 
 /// Grid path lengths already computed, by (from cell, to cell).
-type LegCache = RefCell<HashMap<((i64, i64), (i64, i64)), f64>>;
-
-/// The grid as the planners see it: straight legs where they are clear, grid paths elsewhere.
-struct GridTerrain<'w> {
-    world: &'w VerificationWorld,
-    cache: LegCache,
-}
-
-impl GridTerrain<'_> {
-    fn fits(&self, p: [f64; 2]) -> bool {
-        let (c, r) = self.world.grid.world_to_cell(p[0], p[1]);
-        self.world.trav.ok(c, r)
-    }
-}
-
-impl Terrain for GridTerrain<'_> {
-    fn can_view(&self, at: [f64; 2], target: [f64; 2]) -> bool {
-        self.fits(at) && line_of_sight(&self.world.grid, at, target, true)
-    }
-
-    fn distance(&self, a: [f64; 2], b: [f64; 2]) -> f64 {
-        let g = &self.world.grid;
-        let clear = cells_on_segment(g, a, b)
-            .into_iter()
-            .all(|(c, r)| self.world.trav.ok(c, r));
-        if clear {
-            return (a[0] - b[0]).hypot(a[1] - b[1]);
-        }
-        let key = (g.world_to_cell(a[0], a[1]), g.world_to_cell(b[0], b[1]));
-        if let Some(d) = self.cache.borrow().get(&key) {
-            return *d;
-        }
-        let d = shortest_path(&self.world.trav, a, b, 0.5).map_or(f64::INFINITY, |p| p.length);
-        self.cache.borrow_mut().insert(key, d);
-        d
-    }
-}
-
 /// One trial's result.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TrialResult {
@@ -459,10 +419,7 @@ pub fn run_trial<'m>(
     let features = world.features();
     let mut det = CorrelatedDetector::new(profile, features.clone(), seed);
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed ^ 0x706c_616e);
-    let terrain = GridTerrain {
-        world,
-        cache: RefCell::new(HashMap::new()),
-    };
+    let terrain = GridTerrain::new(&world.grid, &world.trav, true, f64::INFINITY);
     let half_fov = 0.5 * sc.fov_deg.to_radians();
     let goal = [sc.goal.x, sc.goal.y];
     let mut pos = [sc.start.x, sc.start.y];
@@ -473,6 +430,17 @@ pub fn run_trial<'m>(
     let planned_cfg = PlannedConfig {
         fov: sc.fov_deg.to_radians(),
         ..PlannedConfig::default()
+    };
+    let verifier = match strategy {
+        Strategy::Planned | Strategy::PlannedDisc => Verifier::Planned(planned_cfg.clone()),
+        Strategy::Greedy(tau) => Verifier::Greedy(GreedyConfig {
+            threshold: tau,
+            ..GreedyConfig::default()
+        }),
+        Strategy::Rtbss => Verifier::Rtbss(RtbssConfig {
+            depth: planned_cfg.depth.min(3),
+            ..RtbssConfig::default()
+        }),
     };
     // The grid of the timed perception field (Table 6): its GP_ind predictions are made once
     // per trial and reused, as the planner does.
@@ -537,33 +505,9 @@ pub fn run_trial<'m>(
                 std::hint::black_box(f);
                 field_ms.push(t0.elapsed().as_secs_f64() * 1e3);
             }
-            let step = match strategy {
-                Strategy::Planned | Strategy::PlannedDisc => {
-                    planned::plan(&cands, pos, goal, &terrain, &planned_cfg, &mut rng)
-                        .map_err(|e| EvalError::Sim(e.to_string()))?
-                        .step
-                }
-                Strategy::Greedy(tau) => greedy::plan(
-                    &cands,
-                    pos,
-                    &terrain,
-                    &GreedyConfig {
-                        threshold: tau,
-                        ..GreedyConfig::default()
-                    },
-                )
-                .map_err(|e| EvalError::Sim(e.to_string()))?,
-                Strategy::Rtbss => rtbss::plan(
-                    &cands,
-                    pos,
-                    &terrain,
-                    &RtbssConfig {
-                        depth: planned_cfg.depth.min(3),
-                        ..RtbssConfig::default()
-                    },
-                )
-                .map_err(|e| EvalError::Sim(e.to_string()))?,
-            };
+            let step = verifier
+                .next_step(&cands, pos, goal, &terrain, &mut rng)
+                .map_err(|e| EvalError::Sim(e.to_string()))?;
             match step {
                 Step::Look {
                     candidate,
@@ -739,7 +683,7 @@ pub fn run_bench(
         model_kind(strategy, world.scenario.detector),
         seed.wrapping_add(1_000_000),
     )?;
-    let model = spec.build().map_err(|e| EvalError::Sim(e.to_string()))?;
+    let model = SensorModel::from_spec(&spec).map_err(|e| EvalError::Sim(e.to_string()))?;
     run_bench_with(world, &model, strategy, trials, seed)
 }
 

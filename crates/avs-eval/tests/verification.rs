@@ -42,7 +42,7 @@ fn a_trial_is_deterministic_for_a_seed() {
         5,
     )
     .unwrap();
-    let m = spec.build().unwrap();
+    let m = avs_verify::sensor::SensorModel::from_spec(&spec).unwrap();
     let a = run_trial(&w, &m, Strategy::Planned, 3).unwrap();
     let b = run_trial(&w, &m, Strategy::Planned, 3).unwrap();
     assert_eq!(a.decisions, b.decisions);
@@ -133,10 +133,8 @@ fn the_planned_verifier_drives_less_than_greedy_and_decides_no_worse_than_its_lo
         let d = w.scenario.detector;
         // One trained model per kind (GREEDY uses the disc model on doors, the dynamic one on
         // signs: the same kind as ours here).
-        let model = train_model(&profile_of(d), model_kind(ours, d), 7)
-            .unwrap()
-            .build()
-            .unwrap();
+        let spec = train_model(&profile_of(d), model_kind(ours, d), 7).unwrap();
+        let model = avs_verify::sensor::SensorModel::from_spec(&spec).unwrap();
         assert_eq!(model_kind(ours, d), model_kind(Strategy::Greedy(0.8), d));
         let p = run_bench_with(&w, &model, ours, trials, 100).unwrap();
         let g8 = run_bench_with(&w, &model, Strategy::Greedy(0.8), trials, 100).unwrap();

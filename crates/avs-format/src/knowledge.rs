@@ -11,6 +11,7 @@
 //! [`check`] reports every problem with the file, the field path and the fix.
 
 use crate::diag::Diagnostic;
+use crate::verifier::{NamedSensorModel, VerifierSpec, VerifierStrategy};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -58,6 +59,10 @@ pub struct Knowledge {
     /// The object detector's sensor model.
     #[serde(default)]
     pub sensor: SensorModel,
+    /// Trained sensor models of the detection verifier, by name (`avs verify train` writes
+    /// one); classes name theirs in `verifier.model` ([`crate::verifier`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sensor_models: Vec<NamedSensorModel>,
 }
 
 fn default_door_width() -> [f64; 2] {
@@ -87,6 +92,10 @@ pub struct ObjectClass {
     /// Whether other objects are searched on / in it (table, counter, shelf).
     #[serde(default)]
     pub landmark: bool,
+    /// Where its candidate detections go before one is reported ([`crate::verifier`]).
+    /// Absent: the fixed `count` rule.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub verifier: Option<VerifierSpec>,
 }
 
 /// A discrete place property (e.g. size, shape, appearance) and its model P(value | category).
@@ -236,6 +245,14 @@ impl Knowledge {
         self.object_classes.iter().find(|c| c.name == name)
     }
 
+    /// Look up a sensor model of `sensor_models` by name.
+    pub fn sensor_model(&self, name: &str) -> Option<&crate::verifier::SensorModelSpec> {
+        self.sensor_models
+            .iter()
+            .find(|m| m.name == name)
+            .map(|m| &m.model)
+    }
+
     /// Index of a room category by name.
     pub fn category_index(&self, name: &str) -> Option<usize> {
         self.room_categories.iter().position(|c| c == name)
@@ -303,6 +320,75 @@ pub fn validate(file: &str, k: &Knowledge) -> Vec<Diagnostic> {
                     "give [min, max] metres with 0 <= min <= max".into(),
                 );
             }
+        }
+        if let Some(v) = &c.verifier {
+            let vp = format!("{p}.verifier");
+            if c.landmark {
+                err(
+                    vp.clone(),
+                    format!(
+                        "class `{}` is a landmark: landmarks are not verified",
+                        c.name
+                    ),
+                    "remove the verifier block, or drop `landmark: true`".into(),
+                );
+            }
+            match (&v.model, v.strategy) {
+                (None, VerifierStrategy::Count) => {}
+                (None, s) => err(
+                    format!("{vp}.model"),
+                    format!("the `{}` verifier needs a sensor model", s.name()),
+                    "name one of `sensor_models` (e.g. trained by `avs verify train`), or use strategy `count`".into(),
+                ),
+                (Some(m), _) if k.sensor_model(m).is_none() => err(
+                    format!("{vp}.model"),
+                    format!("no sensor model named `{m}`"),
+                    "name one of `sensor_models`".into(),
+                ),
+                (Some(_), VerifierStrategy::Count) => err(
+                    format!("{vp}.model"),
+                    "the `count` rule uses no sensor model".into(),
+                    "remove `model`, or choose a planned, greedy or rtbss verifier".into(),
+                ),
+                _ => {}
+            }
+            match (v.threshold, v.strategy) {
+                (Some(t), VerifierStrategy::Greedy) if !(t > 0.5 && t < 1.0) => err(
+                    format!("{vp}.threshold"),
+                    format!("threshold {t} is outside (0.5, 1)"),
+                    "give GREEDY's belief threshold τ in (0.5, 1), e.g. 0.8".into(),
+                ),
+                (Some(_), s) if s != VerifierStrategy::Greedy => err(
+                    format!("{vp}.threshold"),
+                    format!("the `{}` verifier takes no threshold", s.name()),
+                    "remove `threshold` (it is GREEDY's τ)".into(),
+                ),
+                _ => {}
+            }
+        }
+    }
+    if k.sensor_models.len() > crate::verifier::MAX_MODELS {
+        err(
+            "sensor_models".into(),
+            format!("{} sensor models", k.sensor_models.len()),
+            format!("give at most {} models", crate::verifier::MAX_MODELS),
+        );
+    }
+    for (i, m) in k.sensor_models.iter().enumerate() {
+        let p = format!("sensor_models[{i}]");
+        if k.sensor_models[..i].iter().any(|o| o.name == m.name) {
+            err(
+                format!("{p}.name"),
+                format!("sensor model `{}` is declared twice", m.name),
+                "give each model a name of its own".into(),
+            );
+        }
+        for (field, what) in m.model.problems() {
+            err(
+                format!("{p}.model.{field}"),
+                "is out of range".into(),
+                format!("give {what}"),
+            );
         }
     }
     let dw = k.door_width;
@@ -650,5 +736,73 @@ landmark_rates:
     fn asymmetric_connectivity_is_rejected() {
         let d = diags(("[[1, 2], [2, 0.5]]", "[[1, 2], [3, 0.5]]"));
         assert_eq!(d[0].path, "connectivity[1][0]");
+    }
+
+    /// GOOD with a sensor model and `cup` verified by `verifier` (a flow mapping).
+    fn with_verifier(verifier: &str) -> String {
+        let hyp = "{ mean: 1.0, kernel: { signal_variance: 0.5, length_scales: [1.0, 0.5] }, \
+                   noise_variance: 0.01, spread: 0.3, points: [[1.0, 0.0, 1.2]], \
+                   corr: { kernel: { signal_variance: 0.4, length_scales: [1.0, 0.3] }, noise_variance: 0.05 } }";
+        let models = format!(
+            "sensor_models:\n  - name: generic\n    model:\n      kind: {{ kind: dynamic, alpha_scale: 0.5 }}\n      \
+             max_range: 6.0\n      aspect_limit: null\n      object: {hyp}\n      no_object: {hyp}\n"
+        );
+        GOOD.replace(
+            "recognition_range: [0.5, 1] }",
+            &format!("recognition_range: [0.5, 1], verifier: {verifier} }}"),
+        ) + &models
+    }
+
+    #[test]
+    fn a_verifier_block_naming_a_trained_model_is_valid() {
+        let text = with_verifier("{ strategy: planned, model: generic }");
+        assert_eq!(check("k.yaml", &text), vec![]);
+        let text = with_verifier("{ strategy: greedy, model: generic, threshold: 0.9 }");
+        assert_eq!(check("k.yaml", &text), vec![]);
+        let text = with_verifier("{ strategy: count }");
+        assert_eq!(check("k.yaml", &text), vec![]);
+    }
+
+    #[test]
+    fn a_bad_verifier_block_is_rejected_with_the_field_named() {
+        let path = |v: &str| {
+            let d = check("k.yaml", &with_verifier(v));
+            assert_eq!(d.len(), 1, "{v}: {d:?}");
+            d[0].path.clone()
+        };
+        assert_eq!(
+            path("{ strategy: planned, model: doors }"),
+            "object_classes[1].verifier.model"
+        );
+        assert_eq!(
+            path("{ strategy: planned }"),
+            "object_classes[1].verifier.model"
+        );
+        assert_eq!(
+            path("{ strategy: greedy, model: generic, threshold: 1.5 }"),
+            "object_classes[1].verifier.threshold"
+        );
+        assert_eq!(
+            path("{ strategy: rtbss, model: generic, threshold: 0.8 }"),
+            "object_classes[1].verifier.threshold"
+        );
+        // An unknown strategy is a parse error at its own path.
+        let d = check(
+            "k.yaml",
+            &with_verifier("{ strategy: psychic, model: generic }"),
+        );
+        assert!(
+            d[0].path.contains("object_classes[1].verifier.strategy"),
+            "{d:?}"
+        );
+        // A model out of range is named down to its field.
+        let text = with_verifier("{ strategy: planned, model: generic }").replacen(
+            "spread: 0.3",
+            "spread: -0.3",
+            1,
+        );
+        let d = check("k.yaml", &text);
+        assert_eq!(d.len(), 1, "{d:?}");
+        assert_eq!(d[0].path, "sensor_models[0].model.object.spread");
     }
 }

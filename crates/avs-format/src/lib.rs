@@ -74,6 +74,7 @@ pub mod positions;
 pub mod scenario;
 pub mod schema;
 pub mod verification;
+pub mod verifier;
 
 pub use diag::{Diagnostic, Diagnostics};
 pub use load::{load_yaml, load_yaml_str, read_kind, read_text, FileKind, LoadError};

@@ -35,7 +35,9 @@ mod camera;
 mod scripted;
 
 pub use camera::Camera;
-pub use scripted::{Call, ScriptedRobot};
+pub use scripted::{
+    Call, ScriptedRobot, SCRIPTED_MATCH_RADIUS, SCRIPTED_NO_OBJECT_SCORE, SCRIPTED_OBJECT_SCORE,
+};
 
 /// A planar pose: position (metres) and heading (radians, counter-clockwise from +x).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -172,6 +174,22 @@ pub struct ViewReport {
     pub travelled: f64,
 }
 
+/// What the detector said about hypothesised locations in one image
+/// ([`Robot::detector_scores`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ScoreReport {
+    /// The robot pose the image was taken from (after moving there).
+    pub pose: Pose2D,
+    /// Distance travelled to reach that pose, metres.
+    pub travelled: f64,
+    /// One entry per asked location, in order: the detector's score for the class there, or
+    /// `None` when the detector could not see the location in this image (outside the image,
+    /// occluded, too far, seen edge-on).
+    pub scores: Vec<Option<f64>>,
+    /// The detector's processing time for the image, seconds.
+    pub detector_seconds: f64,
+}
+
 /// What a motion achieved.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MoveReport {
@@ -241,6 +259,9 @@ pub enum FailureReason {
     /// The request itself is invalid (non-finite numbers, outside the camera's limits, an
     /// unknown object class).
     InvalidRequest,
+    /// The robot cannot do this at all (e.g. its detector reports no scores): asking again
+    /// will not help.
+    Unsupported,
 }
 
 /// A failed action: the reason and a human-readable explanation.
@@ -297,6 +318,28 @@ pub trait Robot {
     /// room categories then come from objects alone.
     fn classify_place(&mut self) -> ActionResult<Vec<PlaceReading>> {
         Ok(Vec::new())
+    }
+
+    /// Move to the view cone's pose if not there, point the camera, run the detector for
+    /// `class` and read its score at each hypothesised location of `at` — whether or not the
+    /// detector fires there (Velez et al. 2012, §5: the verifier reasons about the raw score
+    /// `z` of a candidate, not about a thresholded detection). A detector's score is
+    /// whatever real number it outputs (e.g. an SVM margin); the verifier's sensor model is
+    /// trained on the same detector, so only consistency matters.
+    ///
+    /// A robot whose detector gives no scores keeps the default, which fails with
+    /// [`FailureReason::Unsupported`]; the agent then verifies by counting detections.
+    fn detector_scores(
+        &mut self,
+        cone: &ViewCone,
+        class: &str,
+        at: &[Point3],
+    ) -> ActionResult<ScoreReport> {
+        let _ = (cone, class, at);
+        Err(ActionFailure::new(
+            FailureReason::Unsupported,
+            "this robot's detector reports no scores at hypothesised locations",
+        ))
     }
 }
 

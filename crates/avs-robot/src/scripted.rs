@@ -4,8 +4,8 @@
 //! without the simulator.
 
 use crate::{
-    ActionFailure, ActionResult, Camera, Detection, MapUpdate, MoveReport, PlaceReading, Pose2D,
-    Robot, ViewCone, ViewReport,
+    ActionFailure, ActionResult, Camera, Detection, FailureReason, MapUpdate, MoveReport,
+    PlaceReading, Point3, Pose2D, Robot, ScoreReport, ViewCone, ViewReport,
 };
 use avs_map::grid::{Cell, OccupancyGrid};
 use std::collections::VecDeque;
@@ -21,7 +21,18 @@ pub enum Call {
     View(ViewCone, Vec<String>),
     /// `classify_place()`.
     ClassifyPlace,
+    /// `detector_scores(cone, class, at)`.
+    Scores(ViewCone, String, Vec<Point3>),
 }
+
+/// The score a [`ScriptedRobot`] reads at a location in its image within
+/// [`SCRIPTED_MATCH_RADIUS`] of a placed object of the class asked for (unless scripted).
+pub const SCRIPTED_OBJECT_SCORE: f64 = 2.0;
+/// The score a [`ScriptedRobot`] reads at a location in its image with no placed object of the
+/// class near it (unless scripted).
+pub const SCRIPTED_NO_OBJECT_SCORE: f64 = 0.0;
+/// How near (metres) a placed object must be to a hypothesised location to score there.
+pub const SCRIPTED_MATCH_RADIUS: f64 = 0.3;
 
 /// A scripted robot: the map is what the test gives ([`ScriptedRobot::set_grid`]), motion goes
 /// in a straight line and always arrives unless a failure is scripted
@@ -41,6 +52,8 @@ pub struct ScriptedRobot {
     moves: VecDeque<ActionFailure>,
     views: VecDeque<ActionResult<Vec<Detection>>>,
     places: VecDeque<Vec<PlaceReading>>,
+    scores: VecDeque<ActionResult<Vec<Option<f64>>>>,
+    gives_scores: bool,
     objects: Vec<Detection>,
     calls: Vec<Call>,
     laser: Option<(OccupancyGrid, f64)>,
@@ -58,6 +71,8 @@ impl ScriptedRobot {
             moves: VecDeque::new(),
             views: VecDeque::new(),
             places: VecDeque::new(),
+            scores: VecDeque::new(),
+            gives_scores: true,
             objects: Vec::new(),
             calls: Vec::new(),
             laser: None,
@@ -114,6 +129,21 @@ impl ScriptedRobot {
     /// beyond the scripted ones read nothing.
     pub fn script_place(&mut self, readings: Vec<PlaceReading>) {
         self.places.push_back(readings);
+    }
+
+    /// The reply of the next [`Robot::detector_scores`]: one score per asked location, or a
+    /// failure; queued in order. Calls beyond the scripted ones read
+    /// [`SCRIPTED_OBJECT_SCORE`] at locations in the image near a placed object of the class,
+    /// [`SCRIPTED_NO_OBJECT_SCORE`] at other locations in the image and `None` outside it.
+    pub fn script_scores(&mut self, reply: ActionResult<Vec<Option<f64>>>) {
+        self.scores.push_back(reply);
+    }
+
+    /// A robot whose detector reports no scores: [`Robot::detector_scores`] fails with
+    /// [`FailureReason::Unsupported`], as the trait's default does.
+    pub fn without_scores(mut self) -> Self {
+        self.gives_scores = false;
+        self
     }
 
     /// An object every view sees while its position lies inside the image, reported as given.
@@ -221,6 +251,51 @@ impl Robot for ScriptedRobot {
     fn classify_place(&mut self) -> ActionResult<Vec<PlaceReading>> {
         self.calls.push(Call::ClassifyPlace);
         Ok(self.places.pop_front().unwrap_or_default())
+    }
+
+    fn detector_scores(
+        &mut self,
+        cone: &ViewCone,
+        class: &str,
+        at: &[Point3],
+    ) -> ActionResult<ScoreReport> {
+        self.calls
+            .push(Call::Scores(*cone, class.to_string(), at.to_vec()));
+        if !self.gives_scores {
+            return Err(ActionFailure::new(
+                FailureReason::Unsupported,
+                "this scripted robot's detector reports no scores",
+            ));
+        }
+        cone.check(&self.camera)?;
+        let travelled = self.pose.distance(&cone.pose);
+        self.odometry += travelled;
+        self.pose = cone.pose;
+        let scores = match self.scores.pop_front() {
+            Some(reply) => reply?,
+            None => at
+                .iter()
+                .map(|p| {
+                    self.in_image(cone, [p.x, p.y, p.z]).then(|| {
+                        let near = self.objects.iter().any(|o| {
+                            o.class == class
+                                && o.pose.planar_distance(p.x, p.y) <= SCRIPTED_MATCH_RADIUS
+                        });
+                        if near {
+                            SCRIPTED_OBJECT_SCORE
+                        } else {
+                            SCRIPTED_NO_OBJECT_SCORE
+                        }
+                    })
+                })
+                .collect(),
+        };
+        Ok(ScoreReport {
+            pose: self.pose,
+            travelled,
+            scores,
+            detector_seconds: 0.0,
+        })
     }
 }
 
@@ -350,5 +425,48 @@ mod tests {
         let cone = ViewCone::new(r.pose(), 0.0, -1.5, 1.0);
         let e = r.process_view_cone(&cone, &[]).unwrap_err();
         assert_eq!(e.reason, FailureReason::InvalidRequest);
+    }
+
+    #[test]
+    fn scores_read_a_placed_object_high_empty_floor_low_and_nothing_outside_the_image() {
+        let mut r = robot();
+        r.place(Detection {
+            class: "mug".into(),
+            pose: Point3 {
+                x: 2.25,
+                y: 0.75,
+                z: 0.8,
+            },
+            confidence: 0.9,
+        });
+        let cone = ViewCone::new(Pose2D::new(0.75, 0.75, 0.0), 0.0, 0.0, 1.0);
+        let at = |x: f64, y: f64| Point3 { x, y, z: 0.8 };
+        let rep = r
+            .detector_scores(
+                &cone,
+                "mug",
+                &[at(2.25, 0.75), at(2.25, 1.25), at(-3.0, 0.75)],
+            )
+            .unwrap();
+        assert_eq!(
+            rep.scores,
+            vec![
+                Some(SCRIPTED_OBJECT_SCORE),
+                Some(SCRIPTED_NO_OBJECT_SCORE),
+                None
+            ]
+        );
+        // Another class scores nothing at the mug; a scripted reply comes first.
+        let rep = r.detector_scores(&cone, "cup", &[at(2.25, 0.75)]).unwrap();
+        assert_eq!(rep.scores, vec![Some(SCRIPTED_NO_OBJECT_SCORE)]);
+        r.script_scores(Ok(vec![Some(0.7)]));
+        let rep = r.detector_scores(&cone, "mug", &[at(2.25, 0.75)]).unwrap();
+        assert_eq!(rep.scores, vec![Some(0.7)]);
+        let e = r
+            .clone()
+            .without_scores()
+            .detector_scores(&cone, "mug", &[at(2.25, 0.75)])
+            .unwrap_err();
+        assert_eq!(e.reason, FailureReason::Unsupported);
     }
 }

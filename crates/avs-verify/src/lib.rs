@@ -20,10 +20,10 @@
 //!
 //! ## Example
 //! ```
-//! use avs_verify::gp::SeKernel;
+//! use avs_format::verifier::{CorrSpec, KernelSpec};
 //! use avs_verify::planner::planned::{plan, PlannedConfig};
 //! use avs_verify::planner::{Candidate, OpenPlane, Step};
-//! use avs_verify::sensor::{CorrModel, ModelKind};
+//! use avs_verify::sensor::{ModelKind, SensorModel};
 //! use avs_verify::train::{HypothesisSpec, SensorModelSpec};
 //! use rand::SeedableRng;
 //! // A detector that scores an object about 2 and a look-alike about 0.8 from 1–6 m, each
@@ -31,23 +31,22 @@
 //! // this to labelled looks (`avs verify train`).
 //! let hyp = |m: f64| HypothesisSpec {
 //!     mean: m,
-//!     kernel: SeKernel { signal_variance: 0.1, length_scales: vec![2.0, 0.8] },
+//!     kernel: KernelSpec { signal_variance: 0.1, length_scales: vec![2.0, 0.8] },
 //!     noise_variance: 0.01,
 //!     spread: 0.56,
 //!     points: vec![[1.0, 0.0, m], [3.0, 0.0, m], [6.0, 0.0, m]],
-//!     corr: CorrModel {
-//!         kernel: SeKernel { signal_variance: 0.5, length_scales: vec![1.5, 0.4] },
+//!     corr: CorrSpec {
+//!         kernel: KernelSpec { signal_variance: 0.5, length_scales: vec![1.5, 0.4] },
 //!         noise_variance: 0.06,
 //!     },
 //! };
-//! let model = SensorModelSpec {
+//! let model = SensorModel::from_spec(&SensorModelSpec {
 //!     kind: ModelKind::Dynamic { alpha_scale: 1.0 },
 //!     max_range: 6.0,
 //!     aspect_limit: Some(1.4),
 //!     object: hyp(2.0),
 //!     no_object: hyp(0.8),
-//! }
-//! .build()
+//! })
 //! .unwrap();
 //! // The detector fired on a sign 2 m beside the route (facing it) with a middling score.
 //! let mut sign = Candidate::new([4.0, 2.0], Some(-std::f64::consts::FRAC_PI_2), &model, 0.5);

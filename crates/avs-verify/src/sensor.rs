@@ -170,23 +170,7 @@ pub struct CorrModel {
     pub noise_variance: f64,
 }
 
-/// Which of the paper's two sensor models a class uses.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case", tag = "kind")]
-pub enum ModelKind {
-    /// The static disc model (eq. 10–11) with its radius `d_max`, metres.
-    Disc {
-        /// d_max of eq. 10, metres (the paper's 3 m).
-        d_max: f64,
-    },
-    /// The dynamic time-varying model (eq. 9, 16, 17) with its scale κ of eq. 17.
-    Dynamic {
-        /// κ of eq. 17.
-        alpha_scale: f64,
-    },
-    /// The independent model alone (GP_ind; every look a fresh draw) — what RTBSS can use.
-    Independent,
-}
+pub use avs_format::verifier::ModelKind;
 
 /// One look taken at a candidate: the vantage point and the score.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

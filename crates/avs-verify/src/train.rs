@@ -33,6 +33,7 @@ use crate::gp::{FitBounds, Gp, SeKernel};
 use crate::sensor::{CorrModel, Look, ModelKind, ScoreGp, SensorModel, NO_OBJECT, OBJECT};
 use crate::vantage::Vantage;
 use crate::VerifyError;
+use avs_format::verifier::{CorrSpec, KernelSpec};
 use serde::{Deserialize, Serialize};
 
 /// One labelled training look.
@@ -67,151 +68,46 @@ pub struct TrainOptions {
     pub seed: u64,
 }
 
-/// The learned parameters of one hypothesis: GP_ind's mean, kernel, noise, spread and training
-/// points, and GP_corr's kernel and noise.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct HypothesisSpec {
-    /// GP_ind's constant prior mean.
-    pub mean: f64,
-    /// GP_ind's kernel.
-    pub kernel: SeKernel,
-    /// Noise variance of GP_ind's training points (bin means).
-    pub noise_variance: f64,
-    /// Variance of one score about the latent mean.
-    pub spread: f64,
-    /// GP_ind's training points: `[range m, aspect rad, mean score]`.
-    pub points: Vec<[f64; 3]>,
-    /// GP_corr.
-    pub corr: CorrModel,
-}
+pub use avs_format::verifier::{HypothesisSpec, SensorModelSpec, MAX_POINTS};
 
-/// A trained sensor model in plain data (what a knowledge file stores).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SensorModelSpec {
-    /// Disc, dynamic or independent.
-    pub kind: ModelKind,
-    /// Largest range the detector sees from, metres.
-    pub max_range: f64,
-    /// Largest |aspect| the detector sees from, radians (`None`: all round).
-    pub aspect_limit: Option<f64>,
-    /// y = object.
-    pub object: HypothesisSpec,
-    /// y = no object.
-    pub no_object: HypothesisSpec,
-}
-
-impl SensorModelSpec {
-    /// Check every parameter; each problem as (field path, what is expected).
-    pub fn problems(&self) -> Vec<(String, String)> {
-        let mut out = Vec::new();
-        let mut need = |ok: bool, field: String, what: &str| {
-            if !ok {
-                out.push((field, what.to_string()));
-            }
-        };
-        need(
-            self.max_range.is_finite() && self.max_range > 0.0,
-            "max_range".into(),
-            "a positive range in metres",
-        );
-        if let Some(a) = self.aspect_limit {
-            need(
-                a > 0.0 && a <= std::f64::consts::PI,
-                "aspect_limit".into(),
-                "an angle in (0, π] radians",
-            );
-        }
-        match self.kind {
-            ModelKind::Disc { d_max } => need(
-                d_max.is_finite() && d_max > 0.0,
-                "kind.d_max".into(),
-                "a positive distance in metres",
-            ),
-            ModelKind::Dynamic { alpha_scale } => need(
-                alpha_scale.is_finite() && alpha_scale > 0.0,
-                "kind.alpha_scale".into(),
-                "a positive number",
-            ),
-            ModelKind::Independent => {}
-        }
-        for (name, h) in [("object", &self.object), ("no_object", &self.no_object)] {
-            let pos = |v: f64| v.is_finite() && v > 0.0;
-            need(
-                h.mean.is_finite(),
-                format!("{name}.mean"),
-                "a finite number",
-            );
-            need(
-                h.kernel.dim() == 2,
-                format!("{name}.kernel.length_scales"),
-                "two length scales (range, aspect)",
-            );
-            need(
-                pos(h.kernel.signal_variance) && h.kernel.length_scales.iter().all(|&l| pos(l)),
-                format!("{name}.kernel"),
-                "a positive signal variance and positive length scales",
-            );
-            need(
-                h.noise_variance.is_finite() && h.noise_variance >= 0.0,
-                format!("{name}.noise_variance"),
-                "a variance ≥ 0",
-            );
-            need(
-                pos(h.spread),
-                format!("{name}.spread"),
-                "a positive variance",
-            );
-            need(
-                h.points.iter().all(|p| p.iter().all(|v| v.is_finite())),
-                format!("{name}.points"),
-                "finite [range, aspect, score] triples",
-            );
-            need(
-                h.points.len() <= MAX_POINTS,
-                format!("{name}.points"),
-                "at most 2000 training points",
-            );
-            need(
-                h.corr.kernel.dim() == 2
-                    && pos(h.corr.kernel.signal_variance)
-                    && h.corr.kernel.length_scales.iter().all(|&l| pos(l)),
-                format!("{name}.corr.kernel"),
-                "a positive signal variance and two positive length scales",
-            );
-            need(
-                pos(h.corr.noise_variance),
-                format!("{name}.corr.noise_variance"),
-                "a positive variance",
-            );
-        }
-        out
-    }
-
-    /// Build the model (after [`SensorModelSpec::problems`] found none).
-    pub fn build(&self) -> Result<SensorModel, VerifyError> {
-        if let Some((field, message)) = self.problems().into_iter().next() {
-            return Err(VerifyError::Invalid { field, message });
-        }
-        let ind = |h: &HypothesisSpec| {
-            let pts: Vec<(Vantage, f64)> = h
-                .points
-                .iter()
-                .map(|p| (Vantage::new(p[0], p[1]), p[2]))
-                .collect();
-            ScoreGp::new(h.mean, h.kernel.clone(), h.noise_variance, h.spread, &pts)
-        };
-        Ok(SensorModel {
-            ind: [ind(&self.no_object)?, ind(&self.object)?],
-            corr: [self.no_object.corr.clone(), self.object.corr.clone()],
-            kind: self.kind,
-            aspect_limit: self.aspect_limit,
-            max_range: self.max_range,
-        })
+impl SensorModel {
+    /// Build the GP sensor model a spec describes (after [`SensorModelSpec::problems`] found
+    /// none; a problem is a [`VerifyError::Invalid`] naming the field).
+    pub fn from_spec(spec: &SensorModelSpec) -> Result<SensorModel, VerifyError> {
+        build(spec)
     }
 }
 
-/// Most GP_ind training points a model may hold (bins × hypotheses keeps far below).
-pub const MAX_POINTS: usize = 2000;
+fn build(spec: &SensorModelSpec) -> Result<SensorModel, VerifyError> {
+    if let Some((field, message)) = spec.problems().into_iter().next() {
+        return Err(VerifyError::Invalid { field, message });
+    }
+    let ind = |h: &HypothesisSpec| {
+        let pts: Vec<(Vantage, f64)> = h
+            .points
+            .iter()
+            .map(|p| (Vantage::new(p[0], p[1]), p[2]))
+            .collect();
+        ScoreGp::new(
+            h.mean,
+            SeKernel::from(&h.kernel),
+            h.noise_variance,
+            h.spread,
+            &pts,
+        )
+    };
+    let corr = |h: &HypothesisSpec| CorrModel {
+        kernel: SeKernel::from(&h.corr.kernel),
+        noise_variance: h.corr.noise_variance,
+    };
+    Ok(SensorModel {
+        ind: [ind(&spec.no_object)?, ind(&spec.object)?],
+        corr: [corr(&spec.no_object), corr(&spec.object)],
+        kind: spec.kind,
+        aspect_limit: spec.aspect_limit,
+        max_range: spec.max_range,
+    })
+}
 
 /// Table 1 of Velez et al. 2012: the learned (σ, l) of each GP, in the paper's units:
 /// `[text ind object, text ind no-object, text corr object, text corr no-object, door ind
@@ -431,12 +327,12 @@ fn fit_hypothesis(
     }
     Ok(HypothesisSpec {
         mean,
-        kernel,
+        kernel: kernel.spec(),
         noise_variance,
         spread,
         points,
-        corr: CorrModel {
-            kernel: SeKernel {
+        corr: CorrSpec {
+            kernel: KernelSpec {
                 signal_variance: field_var,
                 length_scales: best.1.to_vec(),
             },
@@ -465,7 +361,7 @@ fn fit_alpha_scale(spec: &SensorModelSpec, looks: &[TrainingLook]) -> Result<f64
         s.kind = ModelKind::Dynamic {
             alpha_scale: 10f64.powf(log_kappa),
         };
-        let model = s.build()?;
+        let model = build(&s)?;
         let mut total = 0.0;
         for ls in by_feature.values() {
             let y = if ls[0].object { OBJECT } else { NO_OBJECT };

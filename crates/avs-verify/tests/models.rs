@@ -4,12 +4,12 @@
 //! 0.06 — a detector whose errors come mostly from the view, not from the image (as the
 //! simulated detectors' profiles), so that a repeated look can carry little news.
 
+use avs_format::verifier::{CorrSpec, KernelSpec};
 use avs_verify::field::{perception_field, value, FieldMethod, PreparedGrid, VantageGrid};
-use avs_verify::gp::SeKernel;
 use avs_verify::planner::greedy::{self, GreedyConfig};
 use avs_verify::planner::planned::{self, PlannedConfig};
 use avs_verify::planner::{Candidate, OpenPlane, Step, Terrain};
-use avs_verify::sensor::{CorrModel, Look, ModelKind, SensorModel};
+use avs_verify::sensor::{Look, ModelKind, SensorModel};
 use avs_verify::train::{HypothesisSpec, SensorModelSpec};
 use avs_verify::vantage::Vantage;
 use rand::SeedableRng;
@@ -26,15 +26,15 @@ fn hypothesis(peak: f64) -> HypothesisSpec {
         .collect();
     HypothesisSpec {
         mean: 0.4 + 0.6 * (peak - 0.4),
-        kernel: SeKernel {
+        kernel: KernelSpec {
             signal_variance: 0.5,
             length_scales: vec![2.0, 0.8],
         },
         noise_variance: 0.01,
         spread: 0.5 + 0.06,
         points,
-        corr: CorrModel {
-            kernel: SeKernel {
+        corr: CorrSpec {
+            kernel: KernelSpec {
                 signal_variance: 0.5,
                 length_scales: vec![1.5, 0.4],
             },
@@ -44,14 +44,13 @@ fn hypothesis(peak: f64) -> HypothesisSpec {
 }
 
 fn model(kind: ModelKind) -> SensorModel {
-    SensorModelSpec {
+    SensorModel::from_spec(&SensorModelSpec {
         kind,
         max_range: 6.0,
         aspect_limit: Some(1.4),
         object: hypothesis(2.0),
         no_object: hypothesis(0.8),
-    }
-    .build()
+    })
     .unwrap()
 }
 

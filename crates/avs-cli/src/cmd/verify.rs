@@ -47,6 +47,10 @@ pub struct TrainArgs {
     /// Seed of the simulated training looks.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// The model's name in the knowledge file (classes refer to it as `verifier.model`);
+    /// default: the detector's name.
+    #[arg(long)]
+    pub name: Option<String>,
 }
 
 /// Run `avs verify-bench`.
@@ -94,16 +98,22 @@ pub fn run(c: Command) -> anyhow::Result<ExitCode> {
                 model_kind(strategy, detector),
                 a.seed,
             )?;
+            // A knowledge file's `sensor_models` block, ready to paste (avs_format::verifier).
             #[derive(serde::Serialize)]
-            struct Block<'a> {
-                detector: &'a str,
-                sensor_model: &'a avs_verify::train::SensorModelSpec,
+            struct Block {
+                sensor_models: [avs_format::verifier::NamedSensorModel; 1],
+            }
+            let name = a.name.unwrap_or_else(|| detector.as_str().to_string());
+            if name.trim().is_empty() {
+                anyhow::bail!("--name: expected a non-empty model name");
             }
             print!(
-                "{}",
+                "# trained by `avs verify train --detector {} --strategy {} --seed {}`\n{}",
+                detector.as_str(),
+                a.strategy,
+                a.seed,
                 serde_yaml::to_string(&Block {
-                    detector: detector.as_str(),
-                    sensor_model: &spec
+                    sensor_models: [avs_format::verifier::NamedSensorModel { name, model: spec }],
                 })?
             );
             Ok(ExitCode::SUCCESS)

@@ -24,7 +24,24 @@ pub struct SeKernel {
     pub length_scales: Vec<f64>,
 }
 
+impl From<&avs_format::verifier::KernelSpec> for SeKernel {
+    fn from(k: &avs_format::verifier::KernelSpec) -> Self {
+        SeKernel {
+            signal_variance: k.signal_variance,
+            length_scales: k.length_scales.clone(),
+        }
+    }
+}
+
 impl SeKernel {
+    /// The kernel's parameters as plain data (what a knowledge file stores).
+    pub fn spec(&self) -> avs_format::verifier::KernelSpec {
+        avs_format::verifier::KernelSpec {
+            signal_variance: self.signal_variance,
+            length_scales: self.length_scales.clone(),
+        }
+    }
+
     /// A kernel with the same length scale `length_scale` for all `dim` inputs (scikit-learn's
     /// isotropic `RBF(length_scale=l)`).
     pub fn isotropic(signal_variance: f64, length_scale: f64, dim: usize) -> SeKernel {

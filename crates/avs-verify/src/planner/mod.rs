@@ -14,6 +14,9 @@
 pub mod greedy;
 pub mod planned;
 pub mod rtbss;
+pub mod terrain;
+
+pub use terrain::GridTerrain;
 
 use crate::field::VantageGrid;
 use crate::sensor::{IndAt, Look, SensorModel};
@@ -157,4 +160,46 @@ pub struct View {
     pub waypoint: [f64; 2],
     /// GP_ind's predictions there.
     pub ind: IndAt,
+}
+
+/// A verification planner with its settings: the one place that turns a choice of verifier
+/// into its next [`Step`] (the verification bench and the search agent both call it).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Verifier {
+    /// The planned verifier (REPLANONNEWDETECTION, Fig. 7).
+    Planned(planned::PlannedConfig),
+    /// GREEDY(τ).
+    Greedy(greedy::GreedyConfig),
+    /// RTBSS (decides one candidate at a time with [`Step::Settle`]).
+    Rtbss(rtbss::RtbssConfig),
+}
+
+impl Verifier {
+    /// The next step for `candidates` with the robot at `robot` on its way to `goal`
+    /// (`rng` draws the planned verifier's look sequences; the others are deterministic).
+    pub fn next_step(
+        &self,
+        candidates: &[Candidate<'_>],
+        robot: [f64; 2],
+        goal: [f64; 2],
+        terrain: &dyn Terrain,
+        rng: &mut impl rand::Rng,
+    ) -> Result<Step, crate::VerifyError> {
+        match self {
+            Verifier::Planned(cfg) => {
+                Ok(planned::plan(candidates, robot, goal, terrain, cfg, rng)?.step)
+            }
+            Verifier::Greedy(cfg) => greedy::plan(candidates, robot, terrain, cfg),
+            Verifier::Rtbss(cfg) => rtbss::plan(candidates, robot, terrain, cfg),
+        }
+    }
+
+    /// Looks at one candidate after which it is decided whatever its belief.
+    pub fn max_looks(&self) -> usize {
+        match self {
+            Verifier::Planned(c) => c.max_looks,
+            Verifier::Greedy(c) => c.max_looks,
+            Verifier::Rtbss(c) => c.max_looks,
+        }
+    }
 }
