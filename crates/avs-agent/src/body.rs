@@ -123,6 +123,20 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
         r
     }
 
+    /// Point the camera along `cone` (moving to its pose first if needed) and read the
+    /// detector's scores for `class` at the locations `at`.
+    pub fn scores(
+        &mut self,
+        cone: &ViewCone,
+        class: &str,
+        at: &[avs_robot::Point3],
+    ) -> ActionResult<avs_robot::ScoreReport> {
+        let before = self.robot.odometry();
+        let r = self.robot.detector_scores(cone, class, at);
+        self.book(before);
+        r
+    }
+
     /// The first survey of a new memory: turn in place so the laser sees all around, drop the
     /// first place and sync.
     pub fn survey(&mut self, mem: &mut Memory) -> Result<(), AgentError> {

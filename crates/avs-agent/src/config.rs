@@ -54,6 +54,9 @@ pub struct AgentConfig {
     /// room costs path, not the target. `false` gives up at once, as the paper's planner does
     /// (`002` §III).
     pub cover_before_giving_up: bool,
+    /// Seed of the verification planners' sampled look sequences (combined with the
+    /// candidate's number in the search, so the same seed gives the same trace).
+    pub verifier_seed: u64,
     /// The executive's constants (geometry of looking, verification, exploration).
     pub tuning: Tuning,
 }
@@ -184,6 +187,7 @@ impl Default for AgentConfig {
             max_cones: 24,
             strategy: Strategy::Planner,
             cover_before_giving_up: true,
+            verifier_seed: 0,
             tuning: Tuning::default(),
         }
     }

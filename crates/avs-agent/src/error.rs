@@ -39,6 +39,14 @@ pub enum AgentError {
         /// What is wrong and what is expected.
         problem: String,
     },
+    /// A class's verifier block cannot be used (no such model, a model that does not build).
+    #[error("knowledge: the verifier of class `{class}`: {message}")]
+    Verifier {
+        /// The class.
+        class: String,
+        /// What is wrong.
+        message: String,
+    },
     /// The knowledge file is not usable by the conceptual map.
     #[error(transparent)]
     Concepts(#[from] ConceptError),

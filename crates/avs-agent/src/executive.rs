@@ -54,8 +54,18 @@ impl Agent {
     ) -> Result<Self, AgentError> {
         config.check()?;
         check_domain(&domain)?;
-        // Fail early on knowledge the conceptual map cannot use.
+        // Fail early on knowledge the conceptual map cannot use, and on a verifier block
+        // whose model does not build.
         ConceptualMap::new("knowledge", &knowledge)?;
+        for c in &knowledge.object_classes {
+            if let Some(v) = c
+                .verifier
+                .as_ref()
+                .filter(|v| v.strategy != avs_format::verifier::VerifierStrategy::Count)
+            {
+                crate::skills::verify::check_verifier(&knowledge, &c.name, v)?;
+            }
+        }
         Ok(Self {
             fallback: ContinualPlanner::new(domain.clone(), {
                 let mut o = config.planner;

@@ -110,6 +110,14 @@ pub struct Metrics {
     pub plan_ms: Vec<f64>,
     /// Wall time of each DT decision (next action), ms.
     pub dt_ms: Vec<f64>,
+    /// Candidate detections handed to verification.
+    pub candidates: usize,
+    /// Candidates the verifier accepted.
+    pub candidates_accepted: usize,
+    /// Candidates the verifier rejected.
+    pub candidates_rejected: usize,
+    /// Verification looks taken (the detour they drove is `path_by_activity.verification`).
+    pub verification_looks: usize,
 }
 
 /// What a search returned.

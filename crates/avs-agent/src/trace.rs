@@ -236,6 +236,35 @@ pub enum Event {
         /// Cones processed.
         steps: usize,
     },
+    /// A sighting became a candidate for verification.
+    CandidateCreated {
+        /// The object class.
+        class: String,
+        /// Where the sighting is `[x, y]`, metres.
+        at: [f64; 2],
+        /// P(it is an object of the class) before any verification look: the conceptual map's
+        /// P(ObjectAt L) for its room.
+        prior: f64,
+        /// The verifier it goes to (`planned`, `planned-disc`, `greedy`, `rtbss`, `count`).
+        verifier: String,
+    },
+    /// A candidate was decided.
+    VerificationDecision {
+        /// The object class.
+        class: String,
+        /// Where the sighting is `[x, y]`, metres.
+        at: [f64; 2],
+        /// Whether it was accepted (and is reported).
+        accepted: bool,
+        /// The final belief that it is an object (the model verifiers; none for `count`).
+        belief: Option<f64>,
+        /// Verification looks taken.
+        looks: usize,
+        /// Metres driven for the verification.
+        detour_m: f64,
+        /// Why, in words.
+        reason: String,
+    },
     /// The robot saw a door closed for the first time, or saw a known door open or close
     /// ([`avs_robot::MapUpdate::doors`]; doors first seen open are not news).
     DoorSeen {
@@ -363,6 +392,28 @@ impl Event {
             Event::DtSessionEnded { outcome, steps } => {
                 format!("  DT session ended: {outcome} after {steps} view cones\n")
             }
+            Event::CandidateCreated {
+                class,
+                at,
+                prior,
+                verifier,
+            } => format!(
+                "  ? candidate created: {class} at {}, prior {prior:.3}, verifier {verifier}\n",
+                xy(at)
+            ),
+            Event::VerificationDecision {
+                class,
+                at,
+                accepted,
+                looks,
+                detour_m,
+                reason,
+                ..
+            } => format!(
+                "  ? verification decision: {class} at {} {} ({reason}; {looks} looks, detour {detour_m:.1} m)\n",
+                xy(at),
+                if *accepted { "accepted" } else { "rejected" }
+            ),
             Event::DoorSeen { door, at, open } => {
                 let state = if *open { "open" } else { "closed" };
                 format!("  * door {door} at {} is {state}\n", xy(at))

@@ -38,6 +38,11 @@ pub struct BenchParams {
     pub save_floors: Option<PathBuf>,
     /// Whether the simulated robot has its place classifier (off by default).
     pub place_classifier: bool,
+    /// Look-alikes per room on the generated floors (Poisson mean;
+    /// `avs_sim::generate::DEFAULT_LOOKALIKES_PER_ROOM` by default).
+    pub lookalikes_per_room: f64,
+    /// The simulated robot's detector.
+    pub detector: avs_sim::sim_robot::DetectorKind,
 }
 
 /// One floor's run.
@@ -116,6 +121,7 @@ pub(crate) fn floor(
             } else {
                 Placement::AsKnowledge
             },
+            lookalikes_per_room: p.lookalikes_per_room,
         },
     )
     .map_err(|e| failed(format!("generating: {e}")))?;
@@ -158,7 +164,10 @@ pub fn bench(
                 seed: s,
                 config: config.clone(),
                 before: &[],
-                faults: Faults::default(),
+                faults: Faults {
+                    detector: p.detector,
+                    ..Faults::default()
+                },
                 place_classifier: p.place_classifier,
             };
             let out = run_episode(&world, &spec, &mut |_| {})

@@ -9,14 +9,16 @@ use avs_format::knowledge::Knowledge;
 use avs_plan::domain::Domain;
 use avs_sim::robot::DoorEvent;
 use avs_sim::score::{geodesic_to_class, score_from, target_room_floor};
-use avs_sim::sim_robot::{SimAgentRobot, SimRobotConfig};
+use avs_sim::sim_robot::{DetectorKind, SimAgentRobot, SimRobotConfig};
 use avs_sim::World;
 use serde::Serialize;
 use std::path::Path;
 
-/// The simulated robot's fault injection.
+/// The simulated robot's fault injection and detector.
 #[derive(Debug, Clone, Default)]
 pub struct Faults {
+    /// Which detector its views use (`avs_sim::sim_robot::DetectorKind`).
+    pub detector: DetectorKind,
     /// Probability that a motion or a view fails.
     pub failure_rate: f64,
     /// Multiplier of the false-positive rate.
@@ -35,6 +37,7 @@ impl Faults {
             c.detector.false_positive_scale = x;
         }
         c.door_events = self.door_events.clone();
+        c.detector_kind = self.detector;
         c
     }
 }
@@ -75,6 +78,14 @@ pub struct Summary {
     pub plans: usize,
     /// View-cone POMDP sessions.
     pub dt_sessions: usize,
+    /// Candidate detections handed to verification, and how many it accepted and rejected.
+    pub candidates: usize,
+    /// Candidates accepted.
+    pub candidates_accepted: usize,
+    /// Candidates rejected.
+    pub candidates_rejected: usize,
+    /// Verification looks taken.
+    pub verification_looks: usize,
     /// Median planning time, ms.
     pub plan_ms_median: f64,
     /// Median time per DT decision, ms.
@@ -213,6 +224,10 @@ pub fn run_episode(
         room_revisits,
         plans: report.metrics.plans,
         dt_sessions: report.metrics.dt_sessions,
+        candidates: report.metrics.candidates,
+        candidates_accepted: report.metrics.candidates_accepted,
+        candidates_rejected: report.metrics.candidates_rejected,
+        verification_looks: report.metrics.verification_looks,
         plan_ms_median: median(&report.metrics.plan_ms),
         dt_ms_median: median(&report.metrics.dt_ms),
         compute_s,

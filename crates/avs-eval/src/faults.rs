@@ -324,6 +324,8 @@ pub fn fault_matrix(
         goal: None,
         save_floors: None,
         place_classifier: false,
+        lookalikes_per_room: avs_sim::generate::DEFAULT_LOOKALIKES_PER_ROOM,
+        detector: Default::default(),
     };
     let floors: Vec<(u64, String, World)> = (0..p.floors as u64)
         .into_par_iter()

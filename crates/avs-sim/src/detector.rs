@@ -68,7 +68,10 @@
 //! * **The correlation lives in the feature, for the detector's lifetime.** Each feature's field
 //!   is drawn once, from a `ChaCha8Rng` seeded with the detector seed on stream `index + 1`, so
 //!   the field of feature `i` depends on neither the number of other features nor the order of
-//!   looks. Two looks from the same vantage point differ only by white noise, so the correlation
+//!   looks. [`CorrelatedDetector::add_feature`] adds a feature on a stream the caller names, for
+//!   a world whose features are found as the robot looks (the simulated robot keys them by the
+//!   object's index in the environment, or by a cell for clutter): its field is then fixed by
+//!   the seed and that key alone. Two looks from the same vantage point differ only by white noise, so the correlation
 //!   of two looks' scores (over features of one class) is
 //!   `σ_g² k(Δ) / (σ_g² + σ_n²)`, which falls with the vantage distance `Δ` as the field's length
 //!   scales say. The white noise comes from the detector's own `ChaCha8Rng` (stream 0 of the
@@ -253,6 +256,60 @@ impl ScoreProfile {
         }
     }
 
+    /// This profile with every range-like quantity multiplied by `s`: `max_range`, `r_best`,
+    /// `r_width` and both classes' range length scale `field_length[0]`. Scores, aspects, noise
+    /// and processing time are unchanged, so the scaled detector at range `s·r` behaves exactly
+    /// as this one at range `r`: same mean, and (from the same seed and stream) the very same
+    /// nuisance field, the range frequencies of its random Fourier features being drawn as
+    /// `N(0, 1)/l_r`.
+    ///
+    /// ```
+    /// use avs_sim::detector::ScoreProfile;
+    /// let g = ScoreProfile::generic();
+    /// let half = g.scaled(0.5);
+    /// assert_eq!(half.max_range, 3.0);
+    /// assert!((half.mean(true, 1.3, 0.2) - g.mean(true, 2.6, 0.2)).abs() < 1e-12);
+    /// ```
+    pub fn scaled(&self, s: f64) -> ScoreProfile {
+        let mut p = self.clone();
+        p.max_range *= s;
+        p.r_best *= s;
+        p.r_width *= s;
+        p.object.field_length[0] *= s;
+        p.no_object.field_length[0] *= s;
+        p
+    }
+
+    /// The profile of a knowledge-file object class with detection range `detection_range`
+    /// (`[min, max]` metres at zoom 1): [`ScoreProfile::generic`] scaled
+    /// ([`ScoreProfile::scaled`]) by `s = detection_range[1] / generic().max_range`, so that the
+    /// correlated detector of the class works out to the class's maximum detection distance.
+    /// The minimum distance is not used (the mean score already falls off close in).
+    ///
+    /// This is the profile [`crate::sim_robot::SimAgentRobot`] scores every knowledge class with
+    /// (its correlated detections of non-landmark classes and every
+    /// [`avs_robot::Robot::detector_scores`]). A verifier's sensor model trained on
+    /// [`ScoreProfile::generic`] applies to such a class after scaling its range inputs (range
+    /// and range length scales) by the same `s`: a score at range `r` of the class is
+    /// distributed as a generic score at range `r / s`.
+    ///
+    /// A non-finite or non-positive `detection_range[1]` gives a profile that fails
+    /// [`ScoreProfile::check`].
+    ///
+    /// ```
+    /// use avs_sim::detector::ScoreProfile;
+    /// // A cereal box is detected out to 4 m: two thirds of the generic 6 m.
+    /// let p = ScoreProfile::for_class([0.5, 4.0]);
+    /// assert_eq!(p.max_range, 4.0);
+    /// assert!((p.r_best - 2.0 * 4.0 / 6.0).abs() < 1e-12);
+    /// assert_eq!(p.processing_seconds, ScoreProfile::generic().processing_seconds);
+    /// ```
+    pub fn for_class(detection_range: [f64; 2]) -> ScoreProfile {
+        let g = Self::generic();
+        let s = detection_range[1] / g.max_range;
+        g.scaled(s)
+    }
+
     /// The score parameters of objects (`true`) or no-objects (`false`).
     pub fn params(&self, is_object: bool) -> &ScoreParams {
         if is_object {
@@ -428,16 +485,17 @@ impl AspectFrequencies {
     }
 }
 
-/// Draws the nuisance field of the feature at `index` from its own seeded stream.
+/// Draws a nuisance field from stream `stream` of `seed` (the constructors' feature `i` uses
+/// stream `i + 1`).
 fn draw_field(
     p: &ScoreParams,
     aspect: &AspectFrequencies,
     seed: u64,
-    index: usize,
+    stream: u64,
     d: usize,
 ) -> Field {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    rng.set_stream(index as u64 + 1);
+    rng.set_stream(stream);
     let waves = (0..d)
         .map(|_| {
             let wr = rng.sample::<f64, _>(StandardNormal) / p.field_length[0];
@@ -462,6 +520,13 @@ pub struct CorrelatedDetector {
     noise: ChaCha8Rng,
     images: usize,
     seconds: f64,
+    /// The seed of every field and of the white noise.
+    seed: u64,
+    /// Random Fourier features per field.
+    fourier_features: usize,
+    /// Aspect-frequency samplers of objects and no-objects.
+    aspect_object: AspectFrequencies,
+    aspect_no_object: AspectFrequencies,
 }
 
 impl CorrelatedDetector {
@@ -503,7 +568,7 @@ impl CorrelatedDetector {
                     profile.params(f.is_object),
                     aspect,
                     seed,
-                    i,
+                    i as u64 + 1,
                     fourier_features,
                 )
             })
@@ -517,7 +582,54 @@ impl CorrelatedDetector {
             noise,
             images: 0,
             seconds: 0.0,
+            seed,
+            fourier_features,
+            aspect_object: object,
+            aspect_no_object: no_object,
         }
+    }
+
+    /// Adds `feature` with its nuisance field drawn from stream `stream` of the detector seed,
+    /// and returns its index (the number of features before it). The field depends only on the
+    /// seed, the stream, the feature's class (object or no-object) and the profile, not on the
+    /// other features or the order of additions and looks: a caller that names each thing in
+    /// its world by a stable stream (e.g. an object's index in an environment plus 1, as the
+    /// constructors do for feature `i`) gets the same field for it whenever it adds it. A
+    /// feature added on the stream of another of the same class shares that feature's field
+    /// exactly.
+    ///
+    /// ```
+    /// use avs_sim::detector::{CorrelatedDetector, Feature, ScoreProfile};
+    /// let f = Feature { position: [0.0, 0.0], facing: 0.0, is_object: true };
+    /// let built = CorrelatedDetector::new(ScoreProfile::door(), vec![f.clone(); 3], 7);
+    /// let mut grown = CorrelatedDetector::new(ScoreProfile::door(), Vec::new(), 7);
+    /// // Feature 2 of the constructor has stream 3; added first, it has the same field.
+    /// assert_eq!(grown.add_feature(f, 3), 0);
+    /// assert_eq!(grown.latent(0, 3.0, 0.2), built.latent(2, 3.0, 0.2));
+    /// ```
+    ///
+    /// # Panics
+    /// When `stream` is 0: that stream is the white noise's.
+    pub fn add_feature(&mut self, feature: Feature, stream: u64) -> usize {
+        assert!(
+            stream != 0,
+            "stream 0 is the detector's white noise; a feature's field needs another stream"
+        );
+        let aspect = if feature.is_object {
+            &self.aspect_object
+        } else {
+            &self.aspect_no_object
+        };
+        let field = draw_field(
+            self.profile.params(feature.is_object),
+            aspect,
+            self.seed,
+            stream,
+            self.fourier_features,
+        );
+        self.features.push(feature);
+        self.fields.push(field);
+        self.features.len() - 1
     }
 
     /// The features, in the order their indices refer to.
@@ -562,7 +674,19 @@ impl CorrelatedDetector {
     /// When `feature` is out of range.
     pub fn score(&mut self, feature: usize, waypoint: [f64; 2]) -> Option<f64> {
         let (r, phi) = self.vantage(feature, waypoint);
-        if !self.profile.sees(r, phi) {
+        self.score_from(feature, r, phi)
+    }
+
+    /// One look's score at feature `feature` from vantage point `(range, aspect)` (metres,
+    /// radians), for a caller that computes the vantage itself (e.g. a zoomed image, which sees
+    /// as from nearer): the latent score plus white noise; `None` (and no noise drawn) when the
+    /// detector does not see the feature from there ([`ScoreProfile::sees`]). Counts no image.
+    /// [`CorrelatedDetector::score`] is this at [`CorrelatedDetector::vantage`].
+    ///
+    /// # Panics
+    /// When `feature` is out of range.
+    pub fn score_from(&mut self, feature: usize, range: f64, aspect: f64) -> Option<f64> {
+        if !self.profile.sees(range, aspect) {
             return None;
         }
         let sigma = self
@@ -570,7 +694,7 @@ impl CorrelatedDetector {
             .params(self.features[feature].is_object)
             .noise_std;
         let eps: f64 = self.noise.sample(StandardNormal);
-        Some(self.latent(feature, r, phi) + sigma * eps)
+        Some(self.latent(feature, range, aspect) + sigma * eps)
     }
 
     /// One image from a robot at `waypoint` with camera heading `heading` (radians) and
@@ -747,6 +871,110 @@ mod tests {
         assert!((d.mean(true, 4.0, PI) - 2.0).abs() < 1e-12);
         let g = ScoreProfile::generic();
         assert_eq!(g.mean(false, 2.0, 2.5), g.mean(false, 2.0, 0.0));
+    }
+
+    #[test]
+    fn a_scaled_profile_scores_at_s_times_the_range_as_the_unscaled_at_the_range() {
+        let f = Feature {
+            position: [1.0, -2.0],
+            facing: 0.3,
+            is_object: true,
+        };
+        let g = Feature {
+            is_object: false,
+            ..f.clone()
+        };
+        let s = 0.4;
+        let plain = CorrelatedDetector::new(ScoreProfile::generic(), vec![f.clone(), g.clone()], 8);
+        let scaled = CorrelatedDetector::new(ScoreProfile::generic().scaled(s), vec![f, g], 8);
+        for i in 0..2 {
+            for (r, phi) in [(0.5, 0.0), (2.0, 1.0), (4.5, -2.5), (7.0, 3.0)] {
+                let (a, b) = (plain.latent(i, r, phi), scaled.latent(i, s * r, phi));
+                assert!(
+                    (a - b).abs() < 1e-9,
+                    "feature {i} at ({r}, {phi}): {a} vs {b}"
+                );
+                assert_eq!(
+                    plain.profile().sees(r, phi),
+                    scaled.profile().sees(s * r, phi)
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn for_class_scales_every_range_quantity_by_the_max_detection_range() {
+        let g = ScoreProfile::generic();
+        let p = ScoreProfile::for_class([0.3, 1.5]);
+        let s = 1.5 / g.max_range;
+        assert_eq!(p.check(), Ok(()));
+        assert!((p.max_range - 1.5).abs() < 1e-12);
+        assert!((p.r_best - s * g.r_best).abs() < 1e-12);
+        assert!((p.r_width - s * g.r_width).abs() < 1e-12);
+        for (a, b) in [(&p.object, &g.object), (&p.no_object, &g.no_object)] {
+            assert!((a.field_length[0] - s * b.field_length[0]).abs() < 1e-12);
+            assert_eq!(a.field_length[1], b.field_length[1]);
+            assert_eq!((a.base, a.gain, a.field_std), (b.base, b.gain, b.field_std));
+            assert_eq!(a.noise_std, b.noise_std);
+        }
+        assert_eq!(
+            (p.fire_threshold, p.processing_seconds, p.sidedness),
+            (g.fire_threshold, g.processing_seconds, g.sidedness)
+        );
+        // The generic detector's own range gives the generic profile.
+        assert_eq!(ScoreProfile::for_class([0.5, 6.0]), g);
+        // A class detected nowhere has no usable profile.
+        assert!(ScoreProfile::for_class([0.0, 0.0])
+            .check()
+            .unwrap_err()
+            .contains("max_range"));
+    }
+
+    #[test]
+    fn score_from_the_vantage_is_the_score_from_the_waypoint() {
+        let f = Feature {
+            position: [2.0, 1.0],
+            facing: 1.0,
+            is_object: true,
+        };
+        let mut a = CorrelatedDetector::new(ScoreProfile::sign(), vec![f.clone()], 4);
+        let mut b = a.clone();
+        for wp in [[4.0, 3.0], [2.0, 4.0], [-5.0, 1.0], [2.5, 1.5]] {
+            let (r, phi) = b.vantage(0, wp);
+            assert_eq!(a.score(0, wp), b.score_from(0, r, phi), "{wp:?}");
+        }
+    }
+
+    #[test]
+    fn added_features_get_their_streams_field_whatever_came_before() {
+        let f = |is_object| Feature {
+            position: [0.0, 0.0],
+            facing: 0.0,
+            is_object,
+        };
+        let mut a = CorrelatedDetector::new(ScoreProfile::door(), Vec::new(), 21);
+        let mut b = a.clone();
+        let ia = a.add_feature(f(true), 77);
+        b.add_feature(f(false), 5);
+        b.add_feature(f(true), 1 << 63);
+        let ib = b.add_feature(f(true), 77);
+        assert_eq!((ia, ib), (0, 2));
+        assert_eq!(a.latent(ia, 3.0, 0.4), b.latent(ib, 3.0, 0.4));
+        assert_ne!(b.latent(1, 3.0, 0.4), b.latent(ib, 3.0, 0.4));
+    }
+
+    #[test]
+    #[should_panic(expected = "white noise")]
+    fn a_feature_on_the_noise_stream_is_refused() {
+        let mut d = CorrelatedDetector::new(ScoreProfile::door(), Vec::new(), 1);
+        d.add_feature(
+            Feature {
+                position: [0.0, 0.0],
+                facing: 0.0,
+                is_object: true,
+            },
+            0,
+        );
     }
 
     #[test]

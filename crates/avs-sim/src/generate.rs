@@ -10,6 +10,29 @@
 //! wall, which neither real offices nor door detectors like); each landmark carries
 //! Poisson(λ) objects per `landmark_rates` entry; other objects lie on the floor at their
 //! `object_rates`. Placements that do not fit are dropped, never forced.
+//!
+//! **Look-alikes.** Last, each room (not the corridor) gets Poisson(λ) look-alikes,
+//! λ = [`GenerateParams::lookalikes_per_room`] ([`DEFAULT_LOOKALIKES_PER_ROOM`] = 0.5 by
+//! default: about one every two rooms): objects with `role: distractor` that a detector of
+//! another class may mistake for its target ([`crate::sensors`], [`crate::world_scores`]).
+//!
+//! # Choices where the papers are vague
+//!
+//! * **Which look-alikes.** The knowledge file marks no class as a look-alike, so a look-alike
+//!   is an everyday object of the room: a non-landmark class other than
+//!   [`GenerateParams::ensure_class`] (the search's target must not be faked by an object
+//!   that really is one: a distractor of the target's own class is a true target to the
+//!   detector), drawn in proportion to the class's `object_rates` for the room's category
+//!   (mugs in kitchens), uniformly when those rates are all zero.
+//! * **Where.** Half of the time on a landmark of the room that some class stands `on` in
+//!   `landmark_rates` (a table, desk or counter), when the room has one; else on the floor,
+//!   0.3 m clear of walls and furniture. A look-alike that does not fit is dropped. Its yaw is
+//!   uniform, so a detector's aspect-dependent score sees it from a random side.
+//! * **A stream of their own.** Look-alikes are drawn after everything else, from their own
+//!   `ChaCha8Rng` stream ([`LOOKALIKE_STREAM`] of the same seed): with the rate at 0 a floor is
+//!   the one generated before look-alikes existed, byte for byte, and with any rate the rest
+//!   of the floor (rooms, doors, furniture, targets) is unchanged; look-alikes only append
+//!   objects.
 
 use avs_format::environment::{
     AsciiMap, Camera, Door, Environment, EnvironmentKind, Laser, MapSource, Object, ObjectRole,
@@ -19,6 +42,16 @@ use avs_format::knowledge::{Knowledge, Relation};
 use rand::distributions::{Distribution, WeightedIndex};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+
+/// Default [`GenerateParams::lookalikes_per_room`]: about one look-alike every two rooms.
+pub const DEFAULT_LOOKALIKES_PER_ROOM: f64 = 0.5;
+
+/// Largest accepted [`GenerateParams::lookalikes_per_room`].
+pub const MAX_LOOKALIKES_PER_ROOM: f64 = 10.0;
+
+/// The `ChaCha8Rng` stream (of the floor's seed) look-alikes are drawn from; everything else
+/// uses stream 0.
+pub const LOOKALIKE_STREAM: u64 = 0x100c_a1ce;
 
 /// What to generate.
 #[derive(Debug, Clone, PartialEq)]
@@ -32,6 +65,24 @@ pub struct GenerateParams {
     pub ensure_class: Option<String>,
     /// Where the ensured object goes.
     pub placement: Placement,
+    /// Poisson rate λ of look-alikes (objects with `role: distractor`) per room besides the
+    /// corridor, in `[0, `[`MAX_LOOKALIKES_PER_ROOM`]`]`; 0 generates none and leaves the floor
+    /// exactly as without look-alikes (see the module docs).
+    pub lookalikes_per_room: f64,
+}
+
+impl Default for GenerateParams {
+    /// Seed 0, 4 rooms (as `avs generate`), no ensured class, placement as the knowledge says,
+    /// [`DEFAULT_LOOKALIKES_PER_ROOM`] look-alikes per room.
+    fn default() -> Self {
+        Self {
+            seed: 0,
+            rooms: 4,
+            ensure_class: None,
+            placement: Placement::AsKnowledge,
+            lookalikes_per_room: DEFAULT_LOOKALIKES_PER_ROOM,
+        }
+    }
 }
 
 /// Where [`GenerateParams::ensure_class`]'s object is placed.
@@ -82,6 +133,13 @@ pub fn generate(
         return Err(GenerateError::Invalid(format!(
             "--rooms {}: expected between 1 and 40 rooms",
             params.rooms
+        )));
+    }
+    let lookalikes = params.lookalikes_per_room;
+    if !(lookalikes.is_finite() && (0.0..=MAX_LOOKALIKES_PER_ROOM).contains(&lookalikes)) {
+        return Err(GenerateError::Invalid(format!(
+            "lookalikes_per_room {lookalikes}: expected a rate in [0, {MAX_LOOKALIKES_PER_ROOM}] \
+             look-alikes per room"
         )));
     }
     let cats = &knowledge.room_categories;
@@ -389,6 +447,81 @@ pub fn generate(
                 let (k, rect, _) = rects[rng.gen_range(0..rects.len())];
                 let id = new_id(&cls.name);
                 objects.push(on_floor(&mut rng, rect, cls, &rooms[k].name, id)?);
+            }
+        }
+    }
+
+    if lookalikes > 0.0 {
+        let mut la = ChaCha8Rng::seed_from_u64(params.seed);
+        la.set_stream(LOOKALIKE_STREAM);
+        let classes: Vec<&avs_format::knowledge::ObjectClass> = knowledge
+            .object_classes
+            .iter()
+            .filter(|o| !o.landmark && params.ensure_class.as_deref() != Some(o.name.as_str()))
+            .collect();
+        if !classes.is_empty() {
+            for &(k, rect, _) in &rects {
+                let c = cat_index(&rooms[k].category);
+                let n = poisson(&mut la, lookalikes);
+                if n == 0 {
+                    continue;
+                }
+                let rates: Vec<f64> = classes
+                    .iter()
+                    .map(|o| {
+                        knowledge
+                            .object_rates
+                            .get(&o.name)
+                            .map_or(0.0, |r| r[c].max(0.0))
+                    })
+                    .collect();
+                let pick = WeightedIndex::new(&rates).ok();
+                let room = rooms[k].name.clone();
+                // Surfaces: this room's landmarks that some class stands on.
+                let surfaces: Vec<usize> = objects
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, o)| {
+                        o.room == room
+                            && o.role == ObjectRole::Landmark
+                            && knowledge
+                                .landmark_rates
+                                .iter()
+                                .any(|r| r.landmark == o.class && r.relation == Relation::On)
+                    })
+                    .map(|(i, _)| i)
+                    .collect();
+                let footprints: Vec<Rect> = objects
+                    .iter()
+                    .filter(|o| o.room == room && o.role == ObjectRole::Landmark && o.pose.z <= 0.0)
+                    .map(|o| Rect {
+                        x0: o.pose.x - o.size[0] / 2.0,
+                        y0: o.pose.y - o.size[1] / 2.0,
+                        x1: o.pose.x + o.size[0] / 2.0,
+                        y1: o.pose.y + o.size[1] / 2.0,
+                    })
+                    .collect();
+                for _ in 0..n {
+                    let cls = match &pick {
+                        Some(w) => classes[w.sample(&mut la)],
+                        None => classes[la.gen_range(0..classes.len())],
+                    };
+                    let on_surface = !surfaces.is_empty() && la.gen_bool(0.5);
+                    let placed = if on_surface {
+                        let lm = &objects[surfaces[la.gen_range(0..surfaces.len())]];
+                        Some(object_on(&mut la, lm, cls, Relation::On, String::new()))
+                    } else {
+                        place_box(&mut la, rect, cls.size, &footprints, 0.3)
+                            .map(|fp| standing(cls, fp, &room, String::new(), ObjectRole::Target))
+                    };
+                    let yaw_deg = la.gen_range(0.0..360.0);
+                    if let Some(mut o) = placed {
+                        o.id = new_id(&cls.name);
+                        o.role = ObjectRole::Distractor;
+                        o.pose.yaw_deg = yaw_deg;
+                        objects.push(o);
+                    }
+                }
             }
         }
     }

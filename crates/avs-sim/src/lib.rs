@@ -41,6 +41,7 @@ pub mod score;
 pub mod sensors;
 pub mod sim_robot;
 pub mod world;
+pub mod world_scores;
 
 pub use explore::Explorer;
 pub use robot::{Motion, SimRobot};

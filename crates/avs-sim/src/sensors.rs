@@ -50,6 +50,10 @@
 //! * **Confidence.** The detector's confidence is `P_d` evaluated at the *reported* geometry
 //!   (estimated range and bearing) — the same formula for true and false detections, so the
 //!   confidence carries no ground truth beyond what the geometry says.
+//! * **Correlated firing.** [`Detector::detect_scored`] leaves the decision whether a visible
+//!   object of a non-landmark class (or a distractor) fires to a correlated detector
+//!   (`DetectorKind::Correlated` of [`crate::sim_robot`], scores from
+//!   [`crate::world_scores`]); everything else above stays as it is.
 //!
 //! All randomness comes from the caller's `rand_chacha` generator (the robot's), so the same
 //! seed and the same requests give the same detections.
@@ -196,6 +200,10 @@ pub fn angle_factor(b: f64, e: f64, hfov: f64, vfov: f64, kappa: f64) -> f64 {
     (1.0 - kappa * u.min(1.0).powi(2)).max(0.0)
 }
 
+/// A correlated detector's decision whether the object at an index of the environment's
+/// `objects` fires as a class ([`Detector::detect_scored`]).
+type Fires<'a> = &'a mut dyn FnMut(&str, usize) -> bool;
+
 /// The simulated object detector: the knowledge's sensor model plus a [`DetectorConfig`].
 #[derive(Debug, Clone)]
 pub struct Detector {
@@ -269,6 +277,41 @@ impl Detector {
         classes: &[String],
         rng: &mut R,
     ) -> Result<Vec<Detection>, SensorError> {
+        self.detect_impl(world, walls, view, zoom, classes, rng, None)
+    }
+
+    /// [`Detector::detect_through`] with the firing of objects decided by a correlated
+    /// detector: for each requested class `c` that is not a landmark class, a visible object
+    /// in view that is of class `c` or a distractor is reported when `fires(c, i)` (`i` its
+    /// index in the environment's `objects`) instead of with probability `P_d` (or `ρ`).
+    /// Everything else is as in [`Detector::detect_through`] and draws from `rng` in the same
+    /// way: landmark classes, the pose noise of a reported object, its geometric confidence,
+    /// and the spurious false positive when no visible object of `c` is in view.
+    #[allow(clippy::too_many_arguments)]
+    pub fn detect_scored<R: Rng>(
+        &self,
+        world: &World,
+        walls: &OccupancyGrid,
+        view: &CameraView,
+        zoom: f64,
+        classes: &[String],
+        rng: &mut R,
+        fires: &mut dyn FnMut(&str, usize) -> bool,
+    ) -> Result<Vec<Detection>, SensorError> {
+        self.detect_impl(world, walls, view, zoom, classes, rng, Some(fires))
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn detect_impl<R: Rng>(
+        &self,
+        world: &World,
+        walls: &OccupancyGrid,
+        view: &CameraView,
+        zoom: f64,
+        classes: &[String],
+        rng: &mut R,
+        mut fires: Option<Fires<'_>>,
+    ) -> Result<Vec<Detection>, SensorError> {
         let mut ranges = Vec::with_capacity(classes.len());
         for c in classes {
             let oc = self
@@ -309,7 +352,11 @@ impl Detector {
                 } else {
                     continue;
                 };
-                if rng.gen::<f64>() < p {
+                let reported = match fires.as_mut() {
+                    Some(fires) if !landmark => fires(c, v.index),
+                    _ => rng.gen::<f64>() < p,
+                };
+                if reported {
                     let top = o.pose.z + o.size[2] / 2.0;
                     out.push(self.observe(c, range, [o.pose.x, o.pose.y, top], view, zoom, rng));
                 }

@@ -42,6 +42,66 @@
 //! assert_eq!(e.reason, FailureReason::Unreachable);
 //! ```
 //!
+//! **Two detectors** ([`SimRobotConfig::detector_kind`], a [`DetectorKind`]). With
+//! [`DetectorKind::Independent`] (the default for now) every view draws its detections afresh
+//! from the knowledge file's sensor model ([`crate::sensors`]): looking twice from the same spot
+//! gives two independent chances. With [`DetectorKind::Correlated`] the detections of a
+//! non-landmark class come from the correlated detector of [`crate::world_scores`] (Velez et
+//! al. 2012): a visible object of the class, or a visible distractor, in the view is reported
+//! when its score — mean over the vantage point plus the feature's own nuisance field plus
+//! white noise — exceeds the profile's `fire_threshold`, so a look-alike that fools the
+//! detector from one spot fools it from nearby spots too, and an object seen badly from one
+//! spot stays hard to see from there. The reported position gets the same range and bearing
+//! noise and the confidence is the same geometric one as with the independent detector, and a
+//! spurious detection when no object of the class is in view comes at the same rate
+//! (`sensor.false_positive` × [`DetectorConfig::false_positive_scale`]). Landmark classes keep
+//! the independent model in both modes.
+//!
+//! **Detector scores** ([`Robot::detector_scores`]). The robot moves to the cone's pose as for
+//! a view (the same random view failure), takes one image and reads the correlated detector's
+//! score for the class at each location asked: `None` outside the image (the fields of view
+//! divided by the zoom, the tilt), when walls or a closed door block the line of sight from the
+//! camera to the location (the robot's current grid: door events count), or when the class's
+//! profile does not see the feature from there (beyond its range, which the zoom stretches).
+//! The feature is the object of the class within [`crate::world_scores::MATCH_RADIUS`], else a
+//! look-alike there, else clutter ([`crate::world_scores`]), with the same fields as the
+//! correlated detections, so a detection and a later score at its spot agree. The profile of
+//! every class is [`ScoreProfile::for_class`](crate::detector::ScoreProfile::for_class) of its
+//! detection range
+//! ([`SimAgentRobot::score_images`] and [`SimAgentRobot::score_detector_seconds`] count the
+//! images and their simulated processing time).
+//!
+//! Choices where the paper is vague (Velez et al. verify detections of a real detector and
+//! never say what it scores where nothing is):
+//!
+//! * **Where a score is read.** Whether a location gets a score is judged at the location (is
+//!   its point in the image, is the line of sight to it clear); its value is that of the
+//!   feature there (the object's own position and facing for an object or look-alike within
+//!   [`crate::world_scores::MATCH_RADIUS`]), as a detector responds to the thing it sees, not
+//!   to the hypothesis. A location with nothing there still scores, as clutter.
+//! * **Correlated detections stop at the profile's range.** The independent detector lets the
+//!   chance of a detection fall off quadratically beyond the class's detection range; the
+//!   correlated one reports nothing beyond `detection_range[1]` × zoom, where its profile no
+//!   longer sees the feature.
+//! * **What is counted.** [`SimAgentRobot::score_images`] counts the images taken for scores
+//!   only; views ([`Robot::process_view_cone`]) are counted by whoever asks for them.
+//!
+//! ```
+//! use avs_robot::{Point3, Pose2D, Robot, ViewCone};
+//! use avs_sim::sim_robot::{SimAgentRobot, SimRobotConfig};
+//! let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+//! let world = avs_sim::World::load(&root.join("domains/environments/office.yaml")).unwrap();
+//! let knowledge = avs_format::load_yaml(&root.join("knowledge/office.yaml")).unwrap();
+//! let mut robot = SimAgentRobot::new(&world, knowledge, SimRobotConfig::default(), 1).unwrap();
+//! // Into the kitchen; score a spot 1.5 m ahead and one behind the robot.
+//! let view = ViewCone::new(Pose2D::new(5.5, 3.5, std::f64::consts::FRAC_PI_2), 0.0, -0.2, 1.0);
+//! let ahead = Point3 { x: 5.5, y: 5.0, z: 0.8 };
+//! let behind = Point3 { x: 5.5, y: 2.5, z: 0.8 };
+//! let report = robot.detector_scores(&view, "cerealbox", &[ahead, behind]).unwrap();
+//! assert!(report.scores[0].is_some() && report.scores[1].is_none());
+//! assert_eq!((robot.score_images(), report.detector_seconds), (1, 1.0));
+//! ```
+//!
 //! Unreachable goals (no collision-free path in the true world, e.g. behind a closed door)
 //! report [`FailureReason::Unreachable`]; bad requests (non-finite numbers, outside the
 //! camera's limits, unknown classes) report [`FailureReason::InvalidRequest`] and do nothing.
@@ -71,14 +131,17 @@ use crate::place_classifier::{PlaceClassifier, PlaceClassifierConfig};
 pub use crate::robot::DoorEvent;
 use crate::robot::SimRobot;
 use crate::sensors::{Detector, DetectorConfig, SensorError};
-use crate::world::{CameraView, SimError, World};
+use crate::world::{wrap_angle, CameraView, SimError, World};
+use crate::world_scores::{class_profile, WorldScores};
 use avs_format::knowledge::Knowledge;
 use avs_map::grid::Cell;
+use avs_map::raycast::line_of_sight;
 use avs_robot::{
     ActionFailure, ActionResult, Camera, DoorSighting, FailureReason, MapUpdate, MoveReport,
-    PlaceReading, Pose2D, Robot, ViewCone, ViewReport,
+    PlaceReading, Point3, Pose2D, Robot, ScoreReport, ViewCone, ViewReport,
 };
 use rand::Rng;
+use serde::{Deserialize, Serialize};
 
 /// Rates of random action failures, each a probability per action in [0, 1].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -87,6 +150,19 @@ pub struct FailureRates {
     pub motion: f64,
     /// Probability that a view returns no image.
     pub view: f64,
+}
+
+/// Which detector the simulated robot's views use (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DetectorKind {
+    /// Every view draws its detections independently from the knowledge file's sensor model
+    /// ([`crate::sensors`]).
+    #[default]
+    Independent,
+    /// Detections of non-landmark classes fire on the correlated detector's scores
+    /// ([`crate::world_scores`]); landmark classes stay independent.
+    Correlated,
 }
 
 /// Configuration of the simulated robot beyond the environment and knowledge files.
@@ -100,6 +176,8 @@ pub struct SimRobotConfig {
     pub door_events: Vec<DoorEvent>,
     /// The place classifier (size, shape, appearance; module `place_classifier`).
     pub place_classifier: PlaceClassifierConfig,
+    /// Which detector views use ([`DetectorKind::Independent`] by default).
+    pub detector_kind: DetectorKind,
 }
 
 /// How far from the requested view pose the robot may be and still take the view there, m.
@@ -116,11 +194,19 @@ pub struct SimAgentRobot<'w> {
     known_cells: usize,
     relabelled: usize,
     trail: Vec<[f64; 2]>,
+    detector_kind: DetectorKind,
+    /// The correlated detectors of the knowledge classes (scores, correlated detections).
+    scores: WorldScores,
+    /// Images taken for [`Robot::detector_scores`] and their simulated processing seconds.
+    score_images: usize,
+    score_seconds: f64,
 }
 
 impl<'w> SimAgentRobot<'w> {
     /// A robot at the world's start pose with `knowledge`'s sensor model, seeded by `seed`.
-    /// Errors name the configuration or knowledge field that is out of range.
+    /// Errors name the configuration or knowledge field that is out of range (with
+    /// [`DetectorKind::Correlated`], a non-landmark class whose `detection_range` gives no
+    /// correlated detector is an error of `detector_kind`).
     pub fn new(
         world: &'w World,
         knowledge: Knowledge,
@@ -137,6 +223,14 @@ impl<'w> SimAgentRobot<'w> {
                     value,
                     expected: "a probability in [0, 1]",
                 });
+            }
+        }
+        if config.detector_kind == DetectorKind::Correlated {
+            for c in knowledge.object_classes.iter().filter(|c| !c.landmark) {
+                class_profile(c).map_err(|message| SensorError::Robot {
+                    field: "detector_kind".to_string(),
+                    message: format!("correlated: {message}"),
+                })?;
             }
         }
         let classifier = PlaceClassifier::new(&knowledge, config.place_classifier, seed)?;
@@ -159,7 +253,27 @@ impl<'w> SimAgentRobot<'w> {
             known_cells: 0,
             relabelled: 0,
             trail,
+            detector_kind: config.detector_kind,
+            scores: WorldScores::new(seed),
+            score_images: 0,
+            score_seconds: 0.0,
         })
+    }
+
+    /// Which detector the robot's views use.
+    pub fn detector_kind(&self) -> DetectorKind {
+        self.detector_kind
+    }
+
+    /// Number of images taken for [`Robot::detector_scores`] so far (a failed view takes none).
+    pub fn score_images(&self) -> usize {
+        self.score_images
+    }
+
+    /// Simulated detector processing time of those images, seconds (each the class profile's
+    /// `processing_seconds`).
+    pub fn score_detector_seconds(&self) -> f64 {
+        self.score_seconds
     }
 
     /// Every position the robot passed, from its start, at most 0.25 m apart (for pictures
@@ -216,6 +330,45 @@ impl<'w> SimAgentRobot<'w> {
                 })
             })
             .collect()
+    }
+
+    /// Moves to the view cone's pose unless already there, turns to its heading, and draws the
+    /// random view failure: the distance travelled, or why there is no image.
+    fn go_to_view(&mut self, cone: &ViewCone) -> ActionResult<f64> {
+        let here = self.pose();
+        let travelled = if here.distance(&cone.pose) > AT_POSE {
+            self.drive([cone.pose.x, cone.pose.y])?
+        } else {
+            0.0
+        };
+        self.sim.pose[2] = cone.pose.yaw;
+        if self.failures.view > 0.0 && self.sim.rng.gen::<f64>() < self.failures.view {
+            return Err(ActionFailure::new(
+                FailureReason::ExecutionFailed,
+                "camera returned no image",
+            ));
+        }
+        Ok(travelled)
+    }
+
+    /// The camera's view from the current pose with `cone`'s pan, tilt and zoom.
+    fn camera_view(&self, cone: &ViewCone, camera: &Camera) -> CameraView {
+        let pose = self.pose();
+        CameraView {
+            eye: [pose.x, pose.y, camera.height],
+            yaw: pose.yaw + cone.pan,
+            tilt: cone.tilt,
+            hfov: camera.hfov / cone.zoom,
+            vfov: camera.vfov / cone.zoom,
+        }
+    }
+
+    /// An unknown class as the request error naming it.
+    fn unknown_class(class: &str) -> ActionFailure {
+        ActionFailure::new(
+            FailureReason::InvalidRequest,
+            SensorError::UnknownClass(class.to_string()).to_string(),
+        )
     }
 
     /// Move to `goal`, failing at the configured rate part of the way.
@@ -336,37 +489,38 @@ impl Robot for SimAgentRobot<'_> {
             .iter()
             .find(|c| self.detector.knowledge().class(c).is_none())
         {
-            return Err(ActionFailure::new(
-                FailureReason::InvalidRequest,
-                SensorError::UnknownClass(c.clone()).to_string(),
-            ));
+            return Err(Self::unknown_class(c));
         }
-        let here = self.pose();
-        let travelled = if here.distance(&cone.pose) > AT_POSE {
-            self.drive([cone.pose.x, cone.pose.y])?
-        } else {
-            0.0
-        };
-        self.sim.pose[2] = cone.pose.yaw;
-        if self.failures.view > 0.0 && self.sim.rng.gen::<f64>() < self.failures.view {
-            return Err(ActionFailure::new(
-                FailureReason::ExecutionFailed,
-                "camera returned no image",
-            ));
-        }
+        let travelled = self.go_to_view(cone)?;
         let pose = self.pose();
-        let view = CameraView {
-            eye: [pose.x, pose.y, camera.height],
-            yaw: pose.yaw + cone.pan,
-            tilt: cone.tilt,
-            hfov: camera.hfov / cone.zoom,
-            vfov: camera.vfov / cone.zoom,
-        };
+        let view = self.camera_view(cone, &camera);
+        let world = self.world;
         let (walls, rng) = self.sim.walls_and_rng();
-        let detections = self
-            .detector
-            .detect_through(self.world, walls, &view, cone.zoom, classes, rng)
-            .map_err(|e| ActionFailure::new(FailureReason::InvalidRequest, e.to_string()))?;
+        let detections = match self.detector_kind {
+            DetectorKind::Independent => self
+                .detector
+                .detect_through(world, walls, &view, cone.zoom, classes, rng),
+            DetectorKind::Correlated => {
+                let knowledge = self.detector.knowledge();
+                let scores = &mut self.scores;
+                let (robot, zoom) = ([pose.x, pose.y], cone.zoom);
+                // A visible object of the class or look-alike fires on its correlated score,
+                // from the same feature and field as a later `detector_scores` at its spot.
+                let mut fires = |c: &str, i: usize| {
+                    let Some(class) = knowledge.class(c) else {
+                        return false;
+                    };
+                    WorldScores::object(world, class, i).is_some_and(|l| {
+                        scores
+                            .score(class, &l, robot, zoom)
+                            .is_some_and(|z| scores.fires(class, z))
+                    })
+                };
+                self.detector
+                    .detect_scored(world, walls, &view, zoom, classes, rng, &mut fires)
+            }
+        }
+        .map_err(|e| ActionFailure::new(FailureReason::InvalidRequest, e.to_string()))?;
         Ok(ViewReport {
             pose,
             detections,
@@ -378,4 +532,70 @@ impl Robot for SimAgentRobot<'_> {
         let p = self.sim.pose;
         Ok(self.classifier.classify(self.world, p[0], p[1]))
     }
+
+    fn detector_scores(
+        &mut self,
+        cone: &ViewCone,
+        class: &str,
+        at: &[Point3],
+    ) -> ActionResult<ScoreReport> {
+        let camera = self.camera();
+        cone.check(&camera)?;
+        let Some(oc) = self.detector.knowledge().class(class).cloned() else {
+            return Err(Self::unknown_class(class));
+        };
+        if let Some((i, p)) = at
+            .iter()
+            .enumerate()
+            .find(|(_, p)| !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()))
+        {
+            return Err(ActionFailure::new(
+                FailureReason::InvalidRequest,
+                format!(
+                    "location at[{i}] = ({}, {}, {}): expected finite numbers",
+                    p.x, p.y, p.z
+                ),
+            ));
+        }
+        let profile =
+            class_profile(&oc).map_err(|m| ActionFailure::new(FailureReason::InvalidRequest, m))?;
+        let travelled = self.go_to_view(cone)?;
+        let pose = self.pose();
+        let view = self.camera_view(cone, &camera);
+        let robot = [pose.x, pose.y];
+        let world = self.world;
+        let walls = self.sim.walls();
+        let scores = &mut self.scores;
+        let scores = at
+            .iter()
+            .map(|p| {
+                let seen = in_image(&view, [p.x, p.y, p.z])
+                    && line_of_sight(walls, robot, [p.x, p.y], false);
+                if !seen {
+                    return None;
+                }
+                let located = WorldScores::locate(world, &oc, [p.x, p.y]);
+                scores.score(&oc, &located, robot, cone.zoom)
+            })
+            .collect();
+        self.score_images += 1;
+        self.score_seconds += profile.processing_seconds;
+        Ok(ScoreReport {
+            pose,
+            travelled,
+            scores,
+            detector_seconds: profile.processing_seconds,
+        })
+    }
+}
+
+/// Whether point `p` (x, y, height) lies inside the image of `view`: its bearing and elevation
+/// off the optical axis within half the fields of view (as [`World::objects_in_view`] tests
+/// an object's top centre).
+fn in_image(view: &CameraView, p: [f64; 3]) -> bool {
+    let (dx, dy, dz) = (p[0] - view.eye[0], p[1] - view.eye[1], p[2] - view.eye[2]);
+    let ground = dx.hypot(dy);
+    let bearing = wrap_angle(dy.atan2(dx) - view.yaw);
+    let elevation = dz.atan2(ground) - view.tilt;
+    bearing.abs() <= view.hfov / 2.0 && elevation.abs() <= view.vfov / 2.0
 }

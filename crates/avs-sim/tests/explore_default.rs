@@ -113,6 +113,7 @@ fn exploring_generated_floors_never_merges_rooms_and_finds_most() {
                 rooms: 4,
                 ensure_class: None,
                 placement: Default::default(),
+                ..Default::default()
             },
         )
         .unwrap();

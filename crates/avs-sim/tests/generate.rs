@@ -19,6 +19,7 @@ fn same_seed_gives_the_same_floor_and_different_seeds_differ() {
         rooms: 5,
         ensure_class: None,
         placement: Default::default(),
+        ..Default::default()
     };
     let a = serde_yaml::to_string(&generate(&k, &p(7)).unwrap()).unwrap();
     let b = serde_yaml::to_string(&generate(&k, &p(7)).unwrap()).unwrap();
@@ -39,6 +40,7 @@ fn generated_floors_load_and_every_room_and_ensured_target_is_reachable() {
                     rooms,
                     ensure_class: Some("cerealbox".into()),
                     placement: Default::default(),
+                    ..Default::default()
                 },
             )
             .unwrap_or_else(|e| panic!("seed {seed} rooms {rooms}: {e}"));

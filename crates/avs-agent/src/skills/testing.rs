@@ -32,12 +32,67 @@ pub fn room(w: f64, h: f64) -> OccupancyGrid {
     g
 }
 
-/// A sighting of `class` at `(x, y, z)` with confidence 0.8.
 /// The skills' context over a test's knowledge and configuration.
 pub fn ctx<'a>(knowledge: &'a Knowledge, config: &'a AgentConfig) -> super::Ctx<'a> {
     super::Ctx { knowledge, config }
 }
 
+/// The shipped knowledge with `class` verified by `strategy` and a hand-written sensor model
+/// `hand` over 6 m: an object scores about 2 (the scripted robot's object score), a
+/// look-alike about 0.8, one look's spread 0.3 about a smooth per-candidate field.
+pub fn knowledge_verified_by(
+    class: &str,
+    strategy: avs_format::verifier::VerifierStrategy,
+) -> Knowledge {
+    use avs_format::verifier::{
+        CorrSpec, HypothesisSpec, KernelSpec, ModelKind, NamedSensorModel, SensorModelSpec,
+        VerifierSpec,
+    };
+    let hyp = |m: f64| HypothesisSpec {
+        mean: m,
+        kernel: KernelSpec {
+            signal_variance: 0.1,
+            length_scales: vec![2.0, 0.8],
+        },
+        noise_variance: 0.01,
+        spread: 0.3,
+        points: [1.0, 2.0, 3.0, 4.5, 6.0]
+            .iter()
+            .flat_map(|&r| [-2.0, 0.0, 2.0].map(|a| [r, a, m]))
+            .collect(),
+        corr: CorrSpec {
+            kernel: KernelSpec {
+                signal_variance: 0.2,
+                length_scales: vec![1.5, 0.6],
+            },
+            noise_variance: 0.1,
+        },
+    };
+    let mut k = knowledge();
+    k.sensor_models.push(NamedSensorModel {
+        name: "hand".into(),
+        model: SensorModelSpec {
+            kind: ModelKind::Dynamic { alpha_scale: 1.0 },
+            max_range: 6.0,
+            aspect_limit: None,
+            object: hyp(2.0),
+            no_object: hyp(0.8),
+        },
+    });
+    let c = k
+        .object_classes
+        .iter_mut()
+        .find(|c| c.name == class)
+        .expect("the class is in the shipped knowledge");
+    c.verifier = Some(VerifierSpec {
+        strategy,
+        model: Some("hand".into()),
+        threshold: None,
+    });
+    k
+}
+
+/// A sighting of `class` at `(x, y, z)` with confidence 0.8.
 pub fn object(class: &str, x: f64, y: f64, z: f64) -> Detection {
     Detection {
         class: class.into(),

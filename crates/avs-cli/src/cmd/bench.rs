@@ -14,6 +14,7 @@
 //! target's doors shutting early or late or closed from the start), with one table row per
 //! fault: runs, found, gave up, give-ups naming their cause, wrong reports, the slowest run.
 
+use super::search::DetectorArg;
 use anyhow::Context;
 use avs_agent::AgentConfig;
 use avs_agent::Strategy;
@@ -49,6 +50,13 @@ pub struct Args {
     /// evidence on room categories; off by default).
     #[arg(long)]
     pub place_classifier: bool,
+    /// Look-alikes per room on the generated floors (a Poisson mean in [0, 10]: objects of
+    /// another class that a detector may take for the target).
+    #[arg(long, value_name = "RATE", default_value_t = avs_sim::generate::DEFAULT_LOOKALIKES_PER_ROOM)]
+    pub lookalikes: f64,
+    /// The simulated robot's object detector.
+    #[arg(long, value_enum, default_value_t = DetectorArg::default())]
+    pub detector: DetectorArg,
     /// Search this class on every floor (default: drawn per floor).
     #[arg(long)]
     pub goal: Option<String>,
@@ -98,6 +106,8 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         goal: a.goal.clone(),
         save_floors: a.save_floors.clone(),
         place_classifier: a.place_classifier,
+        lookalikes_per_room: a.lookalikes,
+        detector: a.detector.into(),
     };
     let r = bench(&knowledge, &domain, &params, &tick)?;
     bar.finish();

@@ -25,6 +25,10 @@ pub struct Args {
     /// Make sure at least one object of this class exists.
     #[arg(long)]
     pub ensure: Option<String>,
+    /// Look-alikes per room (a Poisson mean in [0, 10]: objects of another class that a
+    /// detector may take for the target; drawn apart, so 0 leaves the rest of the floor as is).
+    #[arg(long, value_name = "RATE", default_value_t = avs_sim::generate::DEFAULT_LOOKALIKES_PER_ROOM)]
+    pub lookalikes: f64,
 }
 
 /// Run the subcommand.
@@ -38,6 +42,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
             rooms: a.rooms,
             ensure_class: a.ensure,
             placement: Default::default(),
+            lookalikes_per_room: a.lookalikes,
         },
     )?;
     let text = format!(

@@ -41,7 +41,8 @@ impl<'g> GridTerrain<'g> {
         }
     }
 
-    fn fits(&self, p: [f64; 2]) -> bool {
+    /// Whether the robot can stand at `p`.
+    pub fn stands(&self, p: [f64; 2]) -> bool {
         let (c, r) = self.grid.world_to_cell(p[0], p[1]);
         self.trav.ok(c, r)
     }
@@ -49,7 +50,7 @@ impl<'g> GridTerrain<'g> {
 
 impl Terrain for GridTerrain<'_> {
     fn can_view(&self, at: [f64; 2], target: [f64; 2]) -> bool {
-        self.fits(at) && line_of_sight(self.grid, at, target, self.unknown_blocks)
+        self.stands(at) && line_of_sight(self.grid, at, target, self.unknown_blocks)
     }
 
     fn distance(&self, a: [f64; 2], b: [f64; 2]) -> f64 {

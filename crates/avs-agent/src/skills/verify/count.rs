@@ -1,13 +1,13 @@
-//! A closer look at a sighting before it is reported (the verification step of Masuzawa &
-//! Miura, `001` §4, reduced to one viewpoint).
+//! The `count` rule: a closer look at a sighting before it is reported (the verification step
+//! of Masuzawa & Miura, `001` §4, reduced to one viewpoint), accepted on enough detections.
 
-use super::Ctx;
+use super::{aim, Verdict};
 use crate::body::Body;
 use crate::memory::{path_len_on, Memory};
 use crate::run::Run;
+use crate::skills::Ctx;
 use crate::trace::{Event, View};
 use crate::AgentError;
-use avs_map::geometry::wrap_angle;
 use avs_map::grid::Cell;
 use avs_robot::{Detection, Robot, ViewCone};
 use avs_view::{sight_clear, SightLine};
@@ -19,18 +19,18 @@ use avs_view::{sight_clear, SightLine};
 /// the class within `confirm_radius` of the sighting in at most `verify_looks` looks confirm
 /// it (the best of them, measured closer, is the pose reported). With the knowledge's miss
 /// rate 0.2 a real object passes with 0.90; a look-alike that fires one look in four with
-/// 0.16. A sighting not confirmed is remembered as rejected.
-pub(crate) fn verify<R: Robot + ?Sized>(
+/// 0.16.
+pub(crate) fn count_rule<R: Robot + ?Sized>(
     cx: Ctx,
     mem: &mut Memory,
     body: &mut Body<R>,
     run: &mut Run,
     label: &str,
     d: &Detection,
-) -> Result<Option<Detection>, AgentError> {
+) -> Result<Verdict, AgentError> {
     let t = cx.tuning();
     let Some(class) = cx.knowledge.class(label).cloned() else {
-        return Ok(None);
+        return Ok(Verdict::rejected("the class is not in the knowledge file"));
     };
     let target = [d.pose.x, d.pose.y];
     let here = body.pose();
@@ -95,14 +95,15 @@ pub(crate) fn verify<R: Robot + ?Sized>(
     }
     let mut confirmed: Option<Detection> = None;
     let mut hits = 0;
+    let mut looks = 0;
     for look in 0..t.verify_looks {
         if hits + (t.verify_looks - look) < t.verify_hits {
             break; // cannot reach the hits needed any more
         }
         let pose = body.pose();
         let (dx, dy) = (target[0] - pose.x, target[1] - pose.y);
-        let pan = cam.clamp_pan(wrap_angle(dy.atan2(dx) - pose.yaw));
-        let tilt = cam.clamp_tilt((d.pose.z - cam.height).atan2(dx.hypot(dy)));
+        let (pan, tilt) = aim(&cam, pose, d.pose);
+        looks += 1;
         // Zoom in so that the sighting lies in the middle of the recognition range (Sjöö
         // et al., §3.4: the distance interval scales with the zoom).
         let mid = 0.5 * (class.recognition_range[0] + class.recognition_range[1]);
@@ -152,11 +153,18 @@ pub(crate) fn verify<R: Robot + ?Sized>(
         }
     }
     body.refresh_map(mem);
-    let confirmed = confirmed.filter(|_| hits >= t.verify_hits);
-    if confirmed.is_none() {
-        mem.rejected.push((label.to_string(), target));
-    }
-    Ok(confirmed)
+    Ok(match confirmed.filter(|_| hits >= t.verify_hits) {
+        Some(c) => Verdict {
+            confirmed: Some(c),
+            belief: None,
+            looks,
+            reason: format!("{hits} of {looks} closer looks detected it"),
+        },
+        None => Verdict {
+            looks,
+            ..Verdict::rejected(&format!("{hits} of {looks} closer looks detected it"))
+        },
+    })
 }
 
 #[cfg(test)]
@@ -176,7 +184,7 @@ mod tests {
         let mut sink = testing::sink();
         let mut run = testing::run(&mut sink);
         let cx = testing::ctx(&k, &config);
-        let v = verify(
+        let v = super::super::verify(
             cx,
             &mut mem,
             &mut Body::new(&mut robot),

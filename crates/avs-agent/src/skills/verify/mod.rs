@@ -1,0 +1,177 @@
+//! Verification: every candidate detection — a sighting that ends a view-cone session or a
+//! coverage look — goes to the verifier its class names in the knowledge file
+//! (`object_classes[].verifier`, [`avs_format::verifier`]) before it is reported:
+//!
+//! * `planned`, `planned-disc`, `greedy`, `rtbss` — the detection-verification planners of
+//!   Velez et al. 2012 (`avs-verify`), reasoning over the detector's scores at the candidate
+//!   with a trained sensor model ([`model`]);
+//! * `count` (also when a class has no verifier block) — the fixed rule: a few closer looks,
+//!   accepted on enough detections ([`count`]).
+//!
+//! Each candidate is a `candidate created` trace event (its prior, the verifier) and ends in a
+//! `verification decision` event (accepted or not, the belief, the looks, the detour in
+//! metres); the search's metrics count accepted and rejected candidates and verification
+//! looks, and the path breakdown books the detour to verification. A rejected candidate is
+//! remembered, so that the coverage does not send the robot back to a known look-alike.
+//!
+//! # The prior
+//!
+//! A candidate's prior P(it is an object of the class) is the conceptual map's P(ObjectAt L)
+//! for the room L the candidate lies in (`002` eq. 1–2: the Poisson rates of the class in the
+//! room and on its landmarks, mixed over the room's category posterior and thinned by
+//! searches that failed there) — the "P(object at that location)". The detection that
+//! made the candidate is not counted in it: the model verifiers read its score from the image
+//! that fired first (one more image from where the robot stands), as Velez et al. count a
+//! candidate's first score. A candidate outside every known room (beyond the map's rooms) gets
+//! the mean of the class's P(ObjectAt L) over the known rooms, or ½ when no room is known.
+//! The prior is kept inside [`PRIOR_FLOOR`, 1 − `PRIOR_FLOOR`]: a map that has thinned a room
+//! to near zero must still let enough evidence accept a target there.
+
+mod count;
+mod model;
+
+use crate::body::Body;
+use crate::memory::Memory;
+use crate::run::Run;
+use crate::skills::Ctx;
+use crate::trace::Event;
+use crate::AgentError;
+use avs_concepts::Location;
+use avs_format::verifier::VerifierStrategy;
+use avs_map::geometry::wrap_angle;
+use avs_robot::{Camera, Detection, Point3, Pose2D, Robot};
+
+/// The prior of a candidate is kept at least this far from 0 and 1.
+pub(crate) const PRIOR_FLOOR: f64 = 0.01;
+
+/// How a verifier decided a candidate.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Verdict {
+    /// The detection to report, when accepted.
+    pub confirmed: Option<Detection>,
+    /// The final belief that the candidate is an object (model verifiers only).
+    pub belief: Option<f64>,
+    /// Verification looks taken.
+    pub looks: usize,
+    /// Why it was decided so, for the trace.
+    pub reason: String,
+}
+
+impl Verdict {
+    /// A rejection with no looks taken.
+    pub fn rejected(reason: &str) -> Self {
+        Self {
+            confirmed: None,
+            belief: None,
+            looks: 0,
+            reason: reason.to_string(),
+        }
+    }
+}
+
+/// Verify the sighting `d` of class `label` with the class's verifier; the confirmed
+/// detection to report, or `None` (then remembered as rejected).
+pub(crate) fn verify<R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+    label: &str,
+    d: &Detection,
+) -> Result<Option<Detection>, AgentError> {
+    let spec = cx.knowledge.class(label).and_then(|c| c.verifier.clone());
+    let strategy = spec
+        .as_ref()
+        .map_or(VerifierStrategy::Count, |s| s.strategy);
+    let at = [d.pose.x, d.pose.y];
+    let prior = candidate_prior(mem, label, at);
+    run.metrics.candidates += 1;
+    run.emit(Event::CandidateCreated {
+        class: label.to_string(),
+        at,
+        prior,
+        verifier: strategy.name().to_string(),
+    });
+    let start = body.odometry();
+    let verdict = match spec {
+        Some(s) if s.strategy != VerifierStrategy::Count => {
+            let seed = cx
+                .config
+                .verifier_seed
+                .wrapping_mul(0x9e37_79b9_7f4a_7c15)
+                .wrapping_add(run.metrics.candidates as u64);
+            match model::verify_by_model(cx, mem, body, run, label, d, &s, prior, seed)? {
+                model::Outcome::Decided(v) => v,
+                model::Outcome::NoScores(why) => {
+                    run.observe(format!(
+                        "{why}: the {label} is verified by counting detections instead"
+                    ));
+                    count::count_rule(cx, mem, body, run, label, d)?
+                }
+            }
+        }
+        _ => count::count_rule(cx, mem, body, run, label, d)?,
+    };
+    let accepted = verdict.confirmed.is_some();
+    if accepted {
+        run.metrics.candidates_accepted += 1;
+    } else {
+        run.metrics.candidates_rejected += 1;
+        mem.rejected.push((label.to_string(), at));
+    }
+    run.metrics.verification_looks += verdict.looks;
+    run.emit(Event::VerificationDecision {
+        class: label.to_string(),
+        at,
+        accepted,
+        belief: verdict.belief,
+        looks: verdict.looks,
+        detour_m: body.odometry() - start,
+        reason: verdict.reason,
+    });
+    Ok(verdict.confirmed)
+}
+
+/// Check that class `label`'s verifier block can be used: its model exists and builds.
+pub(crate) fn check_verifier(
+    knowledge: &avs_format::knowledge::Knowledge,
+    label: &str,
+    spec: &avs_format::verifier::VerifierSpec,
+) -> Result<(), AgentError> {
+    model::build(
+        knowledge,
+        label,
+        spec,
+        std::f64::consts::FRAC_PI_2,
+        avs_verify::pbd::DecisionCosts::default(),
+    )
+    .map(|_| ())
+}
+
+/// The prior of a candidate of class `label` at `at` (module docs).
+fn candidate_prior(mem: &Memory, label: &str, at: [f64; 2]) -> f64 {
+    let concepts = &mem.wm.concepts;
+    let p = match mem.room_at(at) {
+        Some(room) => concepts.p_object_at(Location::Room(room), label).ok(),
+        None => {
+            let known: Vec<f64> = mem
+                .wm
+                .rooms()
+                .filter_map(|(r, _)| concepts.p_object_at(Location::Room(r), label).ok())
+                .collect();
+            (!known.is_empty()).then(|| known.iter().sum::<f64>() / known.len() as f64)
+        }
+    };
+    p.filter(|p| p.is_finite())
+        .unwrap_or(0.5)
+        .clamp(PRIOR_FLOOR, 1.0 - PRIOR_FLOOR)
+}
+
+/// Pan and tilt (radians, within the camera's limits) that point the camera of a robot at
+/// `pose` at `target`.
+fn aim(cam: &Camera, pose: Pose2D, target: Point3) -> (f64, f64) {
+    let (dx, dy) = (target.x - pose.x, target.y - pose.y);
+    let pan = cam.clamp_pan(wrap_angle(dy.atan2(dx) - pose.yaw));
+    let tilt = cam.clamp_tilt((target.z - cam.height).atan2(dx.hypot(dy)));
+    (pan, tilt)
+}
