@@ -70,9 +70,20 @@ impl VantageGrid {
     /// largest, aspects within its aspect limit (all round without one), each kept a hair
     /// inside the limit so that a waypoint's recomputed vantage point is still seen.
     pub fn for_model(m: &SensorModel, n_range: usize, n_aspect: usize) -> Self {
+        Self::for_model_from(m, MIN_RANGE, n_range, n_aspect)
+    }
+
+    /// [`VantageGrid::for_model`] with ranges from `min_range` (vantage units) instead of
+    /// [`MIN_RANGE`].
+    pub fn for_model_from(
+        m: &SensorModel,
+        min_range: f64,
+        n_range: usize,
+        n_aspect: usize,
+    ) -> Self {
         let inset = 1.0 - 1e-6;
         Self::regular(
-            [MIN_RANGE.min(m.max_range), m.max_range * inset],
+            [min_range.min(m.max_range), m.max_range * inset],
             n_range,
             m.aspect_limit.map_or(std::f64::consts::PI, |a| a * inset),
             n_aspect,

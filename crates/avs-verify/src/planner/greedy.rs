@@ -9,7 +9,7 @@
 //! * Of several unsettled candidates the nearest is served first.
 
 use super::{viable_views, Candidate, Step, Terrain};
-use crate::field::{self, FieldMethod, VantageGrid};
+use crate::field::{self, FieldMethod};
 use crate::VerifyError;
 use serde::{Deserialize, Serialize};
 
@@ -63,7 +63,7 @@ pub fn plan(
     for (_, i) in order {
         let c = &candidates[i];
         let cond = c.model.condition(&c.looks)?;
-        let grid = VantageGrid::for_model(c.model, cfg.grid_ranges, cfg.grid_aspects);
+        let grid = c.vantage_grid(cfg.grid_ranges, cfg.grid_aspects);
         let best = viable_views(c, &grid, terrain)
             .into_iter()
             .filter(|view| terrain.distance(robot, view.waypoint).is_finite())

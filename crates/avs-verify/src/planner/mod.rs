@@ -40,6 +40,10 @@ pub struct Candidate<'m> {
     /// Waypoints from which a look at it returned no score (an occlusion the map does not show,
     /// the edge of what the detector sees): planners do not send the robot there again.
     pub blind: Vec<[f64; 2]>,
+    /// The zoom of the looks at it (≥ 1): a zoomed image magnifies by the zoom (Sjöö et al.,
+    /// `004` eq. 1), so a robot `d` metres away sees the candidate as from `d / zoom` — the
+    /// vantage range the sensor model is asked about. 1 unless [`Candidate::with_zoom`].
+    pub zoom: f64,
 }
 
 impl<'m> Candidate<'m> {
@@ -57,7 +61,36 @@ impl<'m> Candidate<'m> {
             belief: prior,
             looks: Vec::new(),
             blind: Vec::new(),
+            zoom: 1.0,
         }
+    }
+
+    /// The same candidate looked at through zoom `zoom` (values below 1 or not finite count
+    /// as 1).
+    pub fn with_zoom(mut self, zoom: f64) -> Self {
+        self.zoom = if zoom.is_finite() { zoom.max(1.0) } else { 1.0 };
+        self
+    }
+
+    /// The waypoint that gives vantage point `v` (the inverse of [`Candidate::vantage`]).
+    pub fn waypoint(&self, v: &Vantage) -> [f64; 2] {
+        Vantage {
+            range: v.range * self.zoom,
+            ..*v
+        }
+        .waypoint(self.position, self.facing)
+    }
+
+    /// The grid of vantage points a planner samples for it: [`VantageGrid::for_model`] of its
+    /// model, from the closest a robot looks from ([`crate::field::MIN_RANGE`] metres away,
+    /// seen through the zoom) outwards.
+    pub fn vantage_grid(&self, n_range: usize, n_aspect: usize) -> VantageGrid {
+        VantageGrid::for_model_from(
+            self.model,
+            crate::field::MIN_RANGE / self.zoom,
+            n_range,
+            n_aspect,
+        )
     }
 
     /// A look at it from `waypoint` returned no score: no evidence, and no reason to go back.
@@ -65,9 +98,14 @@ impl<'m> Candidate<'m> {
         self.blind.push(waypoint);
     }
 
-    /// The vantage point of a robot at `waypoint` facing this candidate.
+    /// The vantage point of a robot at `waypoint` facing this candidate (its range divided by
+    /// the zoom).
     pub fn vantage(&self, waypoint: [f64; 2]) -> Vantage {
-        Vantage::of(waypoint, self.position, self.facing)
+        let v = Vantage::of(waypoint, self.position, self.facing);
+        Vantage {
+            range: v.range / self.zoom,
+            ..v
+        }
     }
 
     /// Take a look's score into account: the belief by Bayes' rule (eq. 6/11, through the model
@@ -128,7 +166,7 @@ pub enum Step {
 pub fn viable_views(c: &Candidate<'_>, grid: &VantageGrid, terrain: &dyn Terrain) -> Vec<View> {
     grid.vantages
         .iter()
-        .map(|v| v.waypoint(c.position, c.facing))
+        .map(|v| c.waypoint(v))
         // The vantage point as the look will see it (recomputed from the waypoint).
         .map(|w| (c.vantage(w), w))
         .filter(|(v, _)| c.model.sees(v))
@@ -201,5 +239,62 @@ impl Verifier {
             Verifier::Greedy(c) => c.max_looks,
             Verifier::Rtbss(c) => c.max_looks,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::field::MIN_RANGE;
+    use crate::gp::SeKernel;
+    use crate::sensor::{CorrModel, ModelKind, ScoreGp};
+
+    fn model() -> SensorModel {
+        let k = SeKernel {
+            signal_variance: 0.1,
+            length_scales: vec![1.0, 0.5],
+        };
+        let pts = [(Vantage::new(1.0, 0.0), 1.0)];
+        let ind = ScoreGp::new(1.0, k.clone(), 0.01, 0.3, &pts).unwrap();
+        let corr = CorrModel {
+            kernel: k,
+            noise_variance: 0.1,
+        };
+        SensorModel {
+            ind: [ind.clone(), ind],
+            corr: [corr.clone(), corr],
+            kind: ModelKind::Independent,
+            aspect_limit: None,
+            max_range: 2.0,
+        }
+    }
+
+    #[test]
+    fn a_zoomed_candidate_is_seen_as_from_nearer_and_its_waypoints_lie_farther() {
+        let m = model();
+        let c = Candidate::new([1.0, 1.0], None, &m, 0.5).with_zoom(2.0);
+        // 4 m away through zoom 2: the vantage range the model is asked about is 2 m.
+        let v = c.vantage([5.0, 1.0]);
+        assert!((v.range - 2.0).abs() < 1e-12 && v.aspect.abs() < 1e-12);
+        let w = c.waypoint(&v);
+        assert!((w[0] - 5.0).abs() < 1e-12 && (w[1] - 1.0).abs() < 1e-12);
+        // The grid starts where a robot MIN_RANGE away sees it through the zoom.
+        let g = c.vantage_grid(4, 6);
+        let lo = g
+            .vantages
+            .iter()
+            .map(|v| v.range)
+            .fold(f64::INFINITY, f64::min);
+        assert!((lo - MIN_RANGE / 2.0).abs() < 1e-9, "{lo}");
+        // Without zoom, the grid starts at MIN_RANGE; a zoom below 1 counts as 1.
+        let plain = Candidate::new([1.0, 1.0], None, &m, 0.5).with_zoom(0.3);
+        assert_eq!(plain.zoom, 1.0);
+        let lo = plain
+            .vantage_grid(4, 6)
+            .vantages
+            .iter()
+            .map(|v| v.range)
+            .fold(f64::INFINITY, f64::min);
+        assert!((lo - MIN_RANGE).abs() < 1e-9);
     }
 }

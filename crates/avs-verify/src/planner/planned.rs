@@ -136,7 +136,7 @@ pub fn plan(
     }
     let grids: Vec<VantageGrid> = candidates
         .iter()
-        .map(|c| VantageGrid::for_model(c.model, cfg.grid_ranges, cfg.grid_aspects))
+        .map(|c| c.vantage_grid(cfg.grid_ranges, cfg.grid_aspects))
         .collect();
     let views: Vec<Vec<super::View>> = candidates
         .iter()

@@ -93,7 +93,7 @@ pub fn plan(
     independent.kind = ModelKind::Independent;
     let cond = independent.condition(&[])?;
     // Vantage cells.
-    let reach = c.model.max_range;
+    let reach = c.model.max_range * c.zoom;
     let n = (reach / cfg.cell).ceil() as i64;
     let mut cells: Vec<(f64, [f64; 2], Vantage, LookModel)> = Vec::new();
     for a in -n..=n {
@@ -103,7 +103,7 @@ pub fn plan(
                 c.position[1] + b as f64 * cfg.cell,
             ];
             let v = c.vantage(w);
-            if v.range < crate::field::MIN_RANGE
+            if v.range * c.zoom < crate::field::MIN_RANGE
                 || c.blind
                     .iter()
                     .any(|p| (p[0] - w[0]).hypot(p[1] - w[1]) < super::BLIND_RADIUS)

@@ -26,8 +26,16 @@
 //!   (150 m by default, a swing of 300 m). On 20 generated floors a price of 100 m left real
 //!   targets in rooms the map thought unlikely rejected after one look (success 0.65), 200 m
 //!   0.75, 1000 m 0.85 at more path per search.
-//! * **Looks at zoom 1**, the camera centred on the candidate: the sensor model's vantage is
-//!   the range and aspect of an unzoomed image.
+//! * **The zoom of the looks.** A zoomed image magnifies (Sjöö et al., `004` eq. 1): a robot
+//!   `d` m away sees the candidate as from `d / zoom` ([`Candidate::with_zoom`]). The agent
+//!   zooms so that the closest a robot looks from ([`avs_verify::field::MIN_RANGE`], 0.75 m)
+//!   shows the candidate as from the shortest range the scaled model was trained at, within
+//!   the camera's zoom: a class whose detector works only close up (a marker, up to 1.5 m:
+//!   zoom 4) is then looked at from where the robot can stand, over the whole range its model
+//!   knows; a cereal box (4 m) gets zoom 1.5. The camera is centred on the candidate. On 20
+//!   and 60 generated floors this rule found the target as often as zoom 1 or 2 (0.75 and
+//!   0.77 against 0.70–0.80; the differences are within a few floors); zoom 4 for every class
+//!   did worse (0.60 on the 20).
 //! * **Unreachable or blind vantage points.** A waypoint the robot cannot reach, or from which
 //!   the detector returns no score (an occlusion the map does not show, a camera fault), gives
 //!   no evidence and is not offered again ([`Candidate::unseen_from`]). The loop is bounded by
@@ -75,13 +83,14 @@ pub(super) enum Outcome {
 
 /// The class's sensor model and verifier, ready to plan (the model scaled to the class).
 /// `fov` is the camera's horizontal field of view, radians; `costs` the price of decisions.
+/// Also returns the shortest vantage range (metres) of the scaled model's training points.
 pub(crate) fn build(
     knowledge: &avs_format::knowledge::Knowledge,
     label: &str,
     spec: &VerifierSpec,
     fov: f64,
     costs: DecisionCosts,
-) -> Result<(SensorModel, Verifier), AgentError> {
+) -> Result<(SensorModel, Verifier, f64), AgentError> {
     let bad = |message: String| AgentError::Verifier {
         class: label.to_string(),
         message,
@@ -132,7 +141,14 @@ pub(crate) fn build(
         }),
     };
     let model = SensorModel::from_spec(&scaled).map_err(|e| bad(e.to_string()))?;
-    Ok((model, verifier))
+    let min_trained = scaled
+        .object
+        .points
+        .iter()
+        .chain(&scaled.no_object.points)
+        .map(|p| p[0])
+        .fold(scaled.max_range, f64::min);
+    Ok((model, verifier, min_trained))
 }
 
 /// The planners' terrain in the agent: paths on the known map ([`GridTerrain`]) and the
@@ -183,7 +199,7 @@ pub(super) fn verify_by_model<R: Robot + ?Sized>(
     seed: u64,
 ) -> Result<Outcome, AgentError> {
     let cam = body.camera();
-    let (model, verifier) = build(
+    let (model, verifier, min_trained) = build(
         cx.knowledge,
         label,
         spec,
@@ -195,7 +211,8 @@ pub(super) fn verify_by_model<R: Robot + ?Sized>(
     let t = cx.tuning();
     let surfaces = mem.surfaces(cx.knowledge);
     let slack = mem.footprint_slack(cx.knowledge, label).min(t.los_slack);
-    let mut cand = Candidate::new(target, None, &model, prior);
+    let zoom = (avs_verify::field::MIN_RANGE / min_trained).clamp(1.0, cam.max_zoom.max(1.0));
+    let mut cand = Candidate::new(target, None, &model, prior).with_zoom(zoom);
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
     let mut looks = 0;
     let mut failures = 0;
@@ -213,7 +230,7 @@ pub(super) fn verify_by_model<R: Robot + ?Sized>(
             }
             let pose = body.pose();
             let (pan, tilt) = aim(&cam, pose, d.pose);
-            let cone = ViewCone::new(pose, pan, tilt, 1.0);
+            let cone = ViewCone::new(pose, pan, tilt, zoom);
             let read = body.scores(&cone, label, std::slice::from_ref(&d.pose));
             let score = match read {
                 Err(e) if e.reason == FailureReason::Unsupported => {
@@ -256,7 +273,7 @@ pub(super) fn verify_by_model<R: Robot + ?Sized>(
                     y: pose.y,
                     pan_deg: pan.to_degrees(),
                     tilt_deg: tilt.to_degrees(),
-                    zoom: 1.0,
+                    zoom,
                 }),
                 target: Some(target),
             });
@@ -265,7 +282,7 @@ pub(super) fn verify_by_model<R: Robot + ?Sized>(
             break;
         }
         let here = body.at();
-        let max_path = LEG_RANGES * model.max_range + avs_map::places::dist(here, home);
+        let max_path = LEG_RANGES * model.max_range * zoom + avs_map::places::dist(here, home);
         let step = mem.with_trav(false, |trav| {
             let terrain = Sighted {
                 grid: GridTerrain::new(&mem.grid, trav, false, max_path),
