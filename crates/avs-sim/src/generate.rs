@@ -105,6 +105,24 @@ pub enum GenerateError {
     Invalid(String),
 }
 
+/// The indices of `room`'s landmarks that some class of `knowledge` stands `on`: where an
+/// object may be put on a surface.
+fn surfaces_in(objects: &[Object], knowledge: &Knowledge, room: &str) -> Vec<usize> {
+    objects
+        .iter()
+        .enumerate()
+        .filter(|(_, o)| {
+            o.room == room
+                && o.role == ObjectRole::Landmark
+                && knowledge
+                    .landmark_rates
+                    .iter()
+                    .any(|r| r.landmark == o.class && r.relation == Relation::On)
+        })
+        .map(|(i, _)| i)
+        .collect()
+}
+
 const RES: f64 = 0.1;
 const WALL: usize = 2;
 
@@ -385,19 +403,7 @@ pub fn generate(
             .map(|&(k, r, _)| (k, r))
             .collect();
         let (k, rect) = unlikely[rng.gen_range(0..unlikely.len())];
-        let surfaces: Vec<usize> = objects
-            .iter()
-            .enumerate()
-            .filter(|(_, o)| {
-                o.room == rooms[k].name
-                    && o.role == ObjectRole::Landmark
-                    && knowledge
-                        .landmark_rates
-                        .iter()
-                        .any(|r| r.landmark == o.class && r.relation == Relation::On)
-            })
-            .map(|(i, _)| i)
-            .collect();
+        let surfaces = surfaces_in(&objects, knowledge, &rooms[k].name);
         if surfaces.is_empty() {
             let id = new_id(&cls.name);
             objects.push(on_floor(&mut rng, rect, cls, &rooms[k].name, id)?);
@@ -477,20 +483,7 @@ pub fn generate(
                     .collect();
                 let pick = WeightedIndex::new(&rates).ok();
                 let room = rooms[k].name.clone();
-                // Surfaces: this room's landmarks that some class stands on.
-                let surfaces: Vec<usize> = objects
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, o)| {
-                        o.room == room
-                            && o.role == ObjectRole::Landmark
-                            && knowledge
-                                .landmark_rates
-                                .iter()
-                                .any(|r| r.landmark == o.class && r.relation == Relation::On)
-                    })
-                    .map(|(i, _)| i)
-                    .collect();
+                let surfaces = surfaces_in(&objects, knowledge, &room);
                 let footprints: Vec<Rect> = objects
                     .iter()
                     .filter(|o| o.room == room && o.role == ObjectRole::Landmark && o.pose.z <= 0.0)

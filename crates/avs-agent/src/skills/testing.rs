@@ -130,3 +130,44 @@ pub fn run(sink: &mut dyn crate::trace::TraceSink) -> Run<'_> {
 pub fn text(run: &Run) -> String {
     crate::trace::render_text(&run.events)
 }
+
+/// What verifying a sighting left behind ([`verify_cerealbox`]).
+pub struct Verified {
+    /// The detection to report, if the verifier accepted the sighting.
+    pub confirmed: Option<Detection>,
+    /// The trace of the verification.
+    pub events: Vec<Event>,
+    /// The sightings memory remembers as rejected.
+    pub rejected: Vec<(String, [f64; 2])>,
+    /// The search's figures.
+    pub metrics: crate::report::Metrics,
+    /// The robot afterwards.
+    pub robot: ScriptedRobot,
+}
+
+/// Verify a cerealbox sighting at (4.5, 2) seen from (1, 2) in a 6 × 4 m room with
+/// knowledge `k`; `prepare` sets the robot up first (places the object, scripts replies).
+pub fn verify_cerealbox(k: &Knowledge, prepare: impl FnOnce(&mut ScriptedRobot)) -> Verified {
+    let config = AgentConfig::default();
+    let mut robot = self::robot(room(6.0, 4.0), [1.0, 2.0]);
+    let mut mem = memory(&config, k, &mut robot);
+    prepare(&mut robot);
+    let mut sink = sink();
+    let mut run = run(&mut sink);
+    let confirmed = super::verify::verify(
+        ctx(k, &config),
+        &mut mem,
+        &mut Body::new(&mut robot),
+        &mut run,
+        "cerealbox",
+        &object("cerealbox", 4.5, 2.0, 0.14),
+    )
+    .expect("verification runs");
+    Verified {
+        confirmed,
+        events: run.events.clone(),
+        rejected: mem.rejected.clone(),
+        metrics: run.metrics.clone(),
+        robot,
+    }
+}

@@ -169,60 +169,51 @@ pub(crate) fn count_rule<R: Robot + ?Sized>(
 
 #[cfg(test)]
 mod tests {
-    use super::*;
-    use crate::skills::testing::{self, object};
-    use crate::AgentConfig;
+    use crate::skills::testing::{self, object, Verified};
+    use crate::trace::Event;
 
-    fn verdict(placed: bool) -> (Option<Detection>, Memory, avs_robot::ScriptedRobot, usize) {
-        let (config, k) = (AgentConfig::default(), testing::knowledge());
-        let mut robot = testing::robot(testing::room(6.0, 4.0), [1.0, 2.0]);
-        let mut mem = testing::memory(&config, &k, &mut robot);
-        let box_at = object("cerealbox", 4.5, 2.0, 0.14);
-        if placed {
-            robot.place(box_at.clone());
-        }
-        let mut sink = testing::sink();
-        let mut run = testing::run(&mut sink);
-        let cx = testing::ctx(&k, &config);
-        let v = super::super::verify(
-            cx,
-            &mut mem,
-            &mut Body::new(&mut robot),
-            &mut run,
-            "cerealbox",
-            &box_at,
-        )
-        .unwrap();
-        let looks = run
+    /// A cerealbox sighting verified by the count rule (the shipped knowledge has no verifier
+    /// block); the box is there when `placed`. Returns what was left and the looks taken.
+    fn verdict(placed: bool) -> (Verified, usize) {
+        let v = testing::verify_cerealbox(&testing::knowledge(), |r| {
+            if placed {
+                r.place(object("cerealbox", 4.5, 2.0, 0.14));
+            }
+        });
+        let looks = v
             .events
             .iter()
             .filter(|e| matches!(e, Event::DtAction { action, .. } if action.starts_with("VERIFY")))
             .count();
-        (v, mem, robot, looks)
+        (v, looks)
     }
 
     #[test]
     fn a_real_object_is_confirmed_by_two_closer_looks_from_inside_its_recognition_range() {
-        let (v, mem, robot, looks) = verdict(true);
-        let v = v.expect("a real object is confirmed");
-        assert!(v.pose.planar_distance(4.5, 2.0) < 1e-9);
+        let (v, looks) = verdict(true);
+        let c = v.confirmed.expect("a real object is confirmed");
+        assert!(c.pose.planar_distance(4.5, 2.0) < 1e-9);
         assert_eq!(looks, 2);
-        assert!(mem.rejected.is_empty());
+        assert!(v.rejected.is_empty());
         // The robot moved to a standpoint within the class's recognition range (or as near as
         // the camera's tilt allows) and looked at the sighting.
         let k = testing::knowledge();
         let range = k.class("cerealbox").unwrap().detection_range[1];
-        let stand = robot.pose();
+        let stand = avs_robot::Robot::pose(&v.robot);
         assert!(stand.distance(&avs_robot::Pose2D::new(1.0, 2.0, 0.0)) > 0.5);
         assert!(((4.5 - stand.x).hypot(2.0 - stand.y)) <= range, "{stand:?}");
     }
 
     #[test]
     fn a_sighting_no_closer_look_repeats_is_rejected_and_remembered() {
-        let (v, mem, _, looks) = verdict(false);
-        assert!(v.is_none());
+        let (v, looks) = verdict(false);
+        assert!(v.confirmed.is_none());
         // Two misses leave no way to the two hits needed: the third look is not taken.
         assert_eq!(looks, 2);
-        assert_eq!(mem.rejected, vec![("cerealbox".to_string(), [4.5, 2.0])]);
+        assert_eq!(v.rejected, vec![("cerealbox".to_string(), [4.5, 2.0])]);
+        // The decision is in the trace, with the rule's reason.
+        assert!(v.events.iter().any(|e| matches!(e,
+            Event::VerificationDecision { accepted: false, belief: None, looks: 2, reason, .. }
+                if reason.contains("0 of 2"))));
     }
 }

@@ -326,49 +326,18 @@ pub(super) fn verify_by_model<R: Robot + ?Sized>(
 
 #[cfg(test)]
 mod tests {
-    use crate::body::Body;
-    use crate::skills::testing::{self, object};
+    use crate::skills::testing::{self, object, Verified as Outcome};
     use crate::trace::Event;
-    use crate::AgentConfig;
     use avs_format::verifier::VerifierStrategy;
     use avs_robot::ScriptedRobot;
 
-    struct Outcome {
-        reported: bool,
-        events: Vec<Event>,
-        rejected: Vec<(String, [f64; 2])>,
-        metrics: crate::report::Metrics,
-    }
-
-    /// A candidate cerealbox at (4.5, 2) seen from (1, 2) in a 6 × 4 m room, verified by
-    /// `strategy`; `prepare` sets the robot up (places the object, scripts replies).
+    /// A cerealbox sighting verified by `strategy` with the hand-written model.
     fn verify_with(
         strategy: VerifierStrategy,
         prepare: impl FnOnce(&mut ScriptedRobot),
     ) -> Outcome {
-        let config = AgentConfig::default();
         let k = testing::knowledge_verified_by("cerealbox", strategy);
-        let mut robot = testing::robot(testing::room(6.0, 4.0), [1.0, 2.0]);
-        let mut mem = testing::memory(&config, &k, &mut robot);
-        prepare(&mut robot);
-        let mut sink = testing::sink();
-        let mut run = testing::run(&mut sink);
-        let cx = testing::ctx(&k, &config);
-        let v = super::super::verify(
-            cx,
-            &mut mem,
-            &mut Body::new(&mut robot),
-            &mut run,
-            "cerealbox",
-            &object("cerealbox", 4.5, 2.0, 0.14),
-        )
-        .unwrap();
-        Outcome {
-            reported: v.is_some(),
-            events: run.events.clone(),
-            rejected: mem.rejected.clone(),
-            metrics: run.metrics.clone(),
-        }
+        testing::verify_cerealbox(&k, prepare)
     }
 
     fn decision(o: &Outcome) -> (bool, Option<f64>, usize, String) {
@@ -401,7 +370,7 @@ mod tests {
         ] {
             let o = verify_with(s, place_box);
             assert!(
-                o.reported,
+                o.confirmed.is_some(),
                 "{s:?}: {}",
                 crate::trace::render_text(&o.events)
             );
@@ -433,7 +402,7 @@ mod tests {
     fn a_look_alike_is_rejected_and_remembered() {
         // Nothing there: the scripted detector scores 0 at the candidate, below a look-alike's.
         let o = verify_with(VerifierStrategy::Planned, |_| {});
-        assert!(!o.reported);
+        assert!(o.confirmed.is_none());
         let (accepted, belief, looks, _) = decision(&o);
         assert!(!accepted && belief.unwrap() < 0.5 && looks >= 1);
         assert_eq!(o.rejected, vec![("cerealbox".to_string(), [4.5, 2.0])]);
@@ -446,7 +415,7 @@ mod tests {
             place_box(r);
             *r = r.clone().without_scores();
         });
-        assert!(o.reported);
+        assert!(o.confirmed.is_some());
         assert!(o.events.iter().any(|e| matches!(e,
             Event::Observed { what } if what.contains("verified by counting"))));
         let (accepted, belief, _, _) = decision(&o);
@@ -466,6 +435,6 @@ mod tests {
         assert_eq!(looks, 0);
         assert!(!accepted, "the office prior of a cerealbox is below ½");
         assert!(reason.contains("no look saw it"), "{reason}");
-        assert!(!o.reported);
+        assert!(o.confirmed.is_none());
     }
 }
