@@ -156,8 +156,15 @@
 //!   available as [`avs_pomdp::SessionPolicy::Rtbss`]) zigzagged between the heaviest cones and
 //!   looked at cones it had emptied; on 50 bench floors the rollout cut the mean path from 230 m
 //!   to 164 m (view-cone travel 122 → 89 m) and the bench's compute by half.
-//! * **Verification** (Masuzawa & Miura `001` §4, reduced to one viewpoint). A sighting the DT
-//!   session declares found, and a baseline's first sighting, is looked at again from the
+//! * **Verification.** A sighting the DT session declares found, and a baseline's first
+//!   sighting, is a candidate for the verifier its class names in the knowledge file
+//!   (`verifier: { strategy, model }`): Velez et al.'s planned verifier, GREEDY or RTBSS over
+//!   the detector's scores at the candidate (`avs-verify`, driven by the `skills::verify`
+//!   module's `model.rs`, whose docs give the choices), or the fixed `count` rule below — the
+//!   default, and the fallback for a robot whose detector gives no scores. Each candidate is a
+//!   `candidate created` and a `verification decision` trace event.
+//!   The `count` rule (Masuzawa & Miura `001` §4, reduced to one viewpoint): the candidate
+//!   is looked at again from the
 //!   reachable point nearest the robot in the middle of the class's recognition range (but no
 //!   nearer than the camera can tilt onto it: a small object on the floor, 1.2 m below a camera
 //!   that tilts 45° down, is looked at from at least 1.2 m), through views centred on it and
