@@ -118,6 +118,9 @@ pub struct Metrics {
     pub candidates_rejected: usize,
     /// Verification looks taken (the detour they drove is `path_by_activity.verification`).
     pub verification_looks: usize,
+    /// The detector's processing time of the verifiers' score images, seconds, as the robot
+    /// reports it (`ScoreReport::detector_seconds`).
+    pub verification_detector_s: f64,
 }
 
 /// What a search returned.

@@ -86,6 +86,8 @@ pub struct Summary {
     pub candidates_rejected: usize,
     /// Verification looks taken.
     pub verification_looks: usize,
+    /// The detector's processing time of those looks' images, seconds.
+    pub verification_detector_s: f64,
     /// Median planning time, ms.
     pub plan_ms_median: f64,
     /// Median time per DT decision, ms.
@@ -228,6 +230,7 @@ pub fn run_episode(
         candidates_accepted: report.metrics.candidates_accepted,
         candidates_rejected: report.metrics.candidates_rejected,
         verification_looks: report.metrics.verification_looks,
+        verification_detector_s: report.metrics.verification_detector_s,
         plan_ms_median: median(&report.metrics.plan_ms),
         dt_ms_median: median(&report.metrics.dt_ms),
         compute_s,

@@ -90,6 +90,14 @@ fn the_planned_verifier_confirms_the_cerealbox_and_never_reports_a_look_alike() 
         let m = &r.metrics;
         assert_eq!(m.candidates, decisions, "seed {seed}");
         assert_eq!(m.candidates, m.candidates_accepted + m.candidates_rejected);
+        // Every score image costs the simulated detector a second (the generic profile), those
+        // that saw nothing included.
+        assert!(
+            m.verification_detector_s >= m.verification_looks as f64,
+            "seed {seed}: {} s for {} looks",
+            m.verification_detector_s,
+            m.verification_looks
+        );
         if let Some(f) = &r.found {
             // A report is a true cereal box, never a look-alike.
             let near = truth

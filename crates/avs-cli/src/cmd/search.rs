@@ -574,8 +574,12 @@ pub fn summary_text(s: &Summary) -> String {
     );
     let _ = writeln!(
         out,
-        "  candidates:           {} ({} accepted, {} rejected; {} verification looks)",
-        s.candidates, s.candidates_accepted, s.candidates_rejected, s.verification_looks
+        "  candidates:           {} ({} accepted, {} rejected; {} verification looks, {:.1} s of detector time)",
+        s.candidates,
+        s.candidates_accepted,
+        s.candidates_rejected,
+        s.verification_looks,
+        s.verification_detector_s
     );
     if let Some(d) = s.distance_to_goal {
         let _ = writeln!(out, "  distance to goal:     {d:.1} m at the end");
@@ -615,6 +619,7 @@ mod tests {
             candidates_accepted: usize::from(found || wrong_report),
             candidates_rejected: usize::from(!(found || wrong_report)),
             verification_looks: 2,
+            verification_detector_s: 2.0,
             plan_ms_median: 1.0,
             dt_ms_median: 0.1,
             compute_s: 0.1,

@@ -240,7 +240,10 @@ pub(super) fn verify_by_model<R: Robot + ?Sized>(
                     run.observe(format!("a look at the {label} failed: {e}"));
                     None
                 }
-                Ok(r) => r.scores.first().copied().flatten(),
+                Ok(r) => {
+                    run.metrics.verification_detector_s += r.detector_seconds;
+                    r.scores.first().copied().flatten()
+                }
             };
             let at = [pose.x, pose.y];
             match score {
@@ -394,6 +397,8 @@ mod tests {
                 (1, 1, 0)
             );
             assert_eq!(o.metrics.verification_looks, looks);
+            // The scripted detector takes no time per image.
+            assert_eq!(o.metrics.verification_detector_s, 0.0);
             assert!(o.rejected.is_empty());
         }
     }
