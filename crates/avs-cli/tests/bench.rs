@@ -107,6 +107,50 @@ fn bench_json_has_the_contract_keys_and_the_same_seed_gives_the_same_figures() {
 }
 
 #[test]
+fn the_correlated_detector_and_the_look_alike_rate_are_flags_and_candidates_add_up() {
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "bench",
+            "--generate",
+            "2",
+            "--seed",
+            "3",
+            "--rooms",
+            "2",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        bench_json(&args)
+    };
+    let corr = run(&["--detector", "correlated", "--lookalikes", "2"]);
+    for r in corr["runs"].as_array().unwrap() {
+        let n = r["candidates"].as_u64().unwrap();
+        let acc = r["candidates_accepted"].as_u64().unwrap();
+        let rej = r["candidates_rejected"].as_u64().unwrap();
+        assert_eq!(n, acc + rej, "{r:#}");
+        // A found or wrongly reported target was an accepted candidate.
+        if !r["reported_pose"].is_null() {
+            assert!(acc >= 1, "{r:#}");
+        }
+        assert!(r["verification_detector_s"].as_f64().is_some(), "{r:#}");
+    }
+    // The detector is a real switch: the same floors searched with the independent detector
+    // give other runs.
+    let indep = run(&["--detector", "independent", "--lookalikes", "2"]);
+    assert_ne!(without_timings(corr), without_timings(indep));
+    for (bad, named) in [
+        ("--detector=psychic", "detector"),
+        ("--lookalikes=-1", "lookalikes"),
+        ("--lookalikes=11", "lookalikes"),
+    ] {
+        let out = avs(&["bench", "--generate", "1", bad]);
+        assert!(!out.status.success(), "{bad} was accepted");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(named), "{bad}: {err}");
+    }
+}
+
+#[test]
 fn unknown_strategy_and_goal_are_errors_naming_what_is_expected() {
     let out = avs(&["bench", "--generate", "1", "--strategy", "random"]);
     assert!(!out.status.success());
