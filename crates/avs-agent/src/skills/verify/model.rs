@@ -45,8 +45,9 @@
 //!   seen over the table's edge, one beside furniture up to the footprint's slack), not the
 //!   bare grid's: the laser map holds furniture footprints as occupied, and a bare grid line
 //!   to an object on a table never arrives.
-//! * **Legs longer than four detection ranges** count as unreachable for the planners (bounded
-//!   path searches on a large map).
+//! * **Legs longer than four times the farthest a look reaches** (the class's detection range
+//!   times the zoom), beyond the way back to where the robot saw the candidate, count as
+//!   unreachable for the planners (bounded path searches on a large map).
 
 use super::{aim, Verdict};
 use crate::body::Body;
@@ -70,7 +71,8 @@ use rand::SeedableRng;
 const DISC_SHARE: f64 = 0.3;
 /// RTBSS's vantage cell as a share of the class's detection range.
 const RTBSS_CELL_SHARE: f64 = 0.25;
-/// Planner legs longer than this many detection ranges count as unreachable.
+/// Planner legs longer than this many reaches of a look (detection range × zoom) count as
+/// unreachable.
 const LEG_RANGES: f64 = 4.0;
 
 /// How a model verifier ended.
@@ -115,7 +117,10 @@ pub(crate) fn build(
     }
     let mut scaled = trained.scaled(range / trained.max_range);
     let verifier = match spec.strategy {
-        VerifierStrategy::Planned | VerifierStrategy::Count => Verifier::Planned(PlannedConfig {
+        VerifierStrategy::Count => {
+            return Err(bad("the `count` rule is not a model verifier".into()));
+        }
+        VerifierStrategy::Planned => Verifier::Planned(PlannedConfig {
             fov,
             costs,
             ..PlannedConfig::default()
