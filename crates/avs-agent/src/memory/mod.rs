@@ -152,6 +152,10 @@ pub(crate) struct Memory {
     /// verification. Sightings of the class where `rejections_to_ignore` verifications
     /// failed are taken for a look-alike and ignored.
     pub rejected: Vec<(String, [f64; 2])>,
+    /// The model verifiers built so far, by class (`skills::verify`): a model is built from
+    /// its knowledge-file spec once (a GP with up to 2000 training points per hypothesis), not
+    /// once per candidate.
+    pub verifiers: BTreeMap<String, std::sync::Arc<crate::skills::verify::Built>>,
     /// The robot's position as last seen.
     pub at: [f64; 2],
     /// The doors the robot has reported, each as last seen ([`avs_robot::MapUpdate::doors`]).
@@ -243,6 +247,7 @@ impl Memory {
             spurious_cache: Memo::default(),
             last_target: None,
             rejected: Vec::new(),
+            verifiers: BTreeMap::new(),
             at: [0.0, 0.0],
             doors: Vec::new(),
             door_news: Vec::new(),

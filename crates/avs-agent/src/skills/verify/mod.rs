@@ -30,6 +30,8 @@
 mod count;
 mod model;
 
+pub(crate) use model::Built;
+
 use crate::body::Body;
 use crate::memory::Memory;
 use crate::run::Run;

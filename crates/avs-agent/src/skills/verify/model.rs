@@ -83,16 +83,26 @@ pub(super) enum Outcome {
     NoScores(String),
 }
 
+/// A class's model verifier, ready to plan.
+#[derive(Debug)]
+pub(crate) struct Built {
+    /// The sensor model, scaled to the class.
+    pub model: SensorModel,
+    /// The verification planner with its settings.
+    pub verifier: Verifier,
+    /// The shortest vantage range (metres) of the scaled model's training points.
+    pub min_trained: f64,
+}
+
 /// The class's sensor model and verifier, ready to plan (the model scaled to the class).
 /// `fov` is the camera's horizontal field of view, radians; `costs` the price of decisions.
-/// Also returns the shortest vantage range (metres) of the scaled model's training points.
 pub(crate) fn build(
     knowledge: &avs_format::knowledge::Knowledge,
     label: &str,
     spec: &VerifierSpec,
     fov: f64,
     costs: DecisionCosts,
-) -> Result<(SensorModel, Verifier, f64), AgentError> {
+) -> Result<Built, AgentError> {
     let bad = |message: String| AgentError::Verifier {
         class: label.to_string(),
         message,
@@ -153,7 +163,11 @@ pub(crate) fn build(
         .chain(&scaled.no_object.points)
         .map(|p| p[0])
         .fold(scaled.max_range, f64::min);
-    Ok((model, verifier, min_trained))
+    Ok(Built {
+        model,
+        verifier,
+        min_trained,
+    })
 }
 
 /// The planners' terrain in the agent: paths on the known map ([`GridTerrain`]) and the
@@ -204,20 +218,33 @@ pub(super) fn verify_by_model<R: Robot + ?Sized>(
     seed: u64,
 ) -> Result<Outcome, AgentError> {
     let cam = body.camera();
-    let (model, verifier, min_trained) = build(
-        cx.knowledge,
-        label,
-        spec,
-        cam.hfov,
-        decision_costs(cx.config),
-    )?;
+    let built = match mem.verifiers.get(label) {
+        Some(b) => b.clone(),
+        None => {
+            let b = std::sync::Arc::new(build(
+                cx.knowledge,
+                label,
+                spec,
+                cam.hfov,
+                decision_costs(cx.config),
+            )?);
+            mem.verifiers.insert(label.to_string(), b.clone());
+            b
+        }
+    };
+    let Built {
+        model,
+        verifier,
+        min_trained,
+    } = &*built;
+    let min_trained = *min_trained;
     let target = [d.pose.x, d.pose.y];
     let home = body.at();
     let t = cx.tuning();
     let surfaces = mem.surfaces(cx.knowledge);
     let slack = mem.footprint_slack(cx.knowledge, label).min(t.los_slack);
     let zoom = (avs_verify::field::MIN_RANGE / min_trained).clamp(1.0, cam.max_zoom.max(1.0));
-    let mut cand = Candidate::new(target, None, &model, prior).with_zoom(zoom);
+    let mut cand = Candidate::new(target, None, model, prior).with_zoom(zoom);
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
     let mut looks = 0;
     let mut failures = 0;
