@@ -227,9 +227,9 @@ impl<'w> SimAgentRobot<'w> {
         }
         if config.detector_kind == DetectorKind::Correlated {
             for c in knowledge.object_classes.iter().filter(|c| !c.landmark) {
-                class_profile(c).map_err(|message| SensorError::Robot {
+                class_profile(c).map_err(|e| SensorError::Robot {
                     field: "detector_kind".to_string(),
-                    message: format!("correlated: {message}"),
+                    message: format!("correlated: {e}"),
                 })?;
             }
         }
@@ -510,10 +510,11 @@ impl Robot for SimAgentRobot<'_> {
                     let Some(class) = knowledge.class(c) else {
                         return false;
                     };
+                    // Every non-landmark class has a profile (checked by `new`); one without
+                    // never fires.
                     WorldScores::object(world, class, i).is_some_and(|l| {
-                        scores
-                            .score(class, &l, robot, zoom)
-                            .is_some_and(|z| scores.fires(class, z))
+                        matches!(scores.score(class, &l, robot, zoom), Ok(Some(z))
+                            if scores.fires(class, z) == Ok(true))
                     })
                 };
                 self.detector
@@ -557,8 +558,8 @@ impl Robot for SimAgentRobot<'_> {
                 ),
             ));
         }
-        let profile =
-            class_profile(&oc).map_err(|m| ActionFailure::new(FailureReason::InvalidRequest, m))?;
+        let profile = class_profile(&oc)
+            .map_err(|e| ActionFailure::new(FailureReason::InvalidRequest, e.0))?;
         let travelled = self.go_to_view(cone)?;
         let pose = self.pose();
         let view = self.camera_view(cone, &camera);
@@ -575,7 +576,8 @@ impl Robot for SimAgentRobot<'_> {
                     return None;
                 }
                 let located = WorldScores::locate(world, &oc, [p.x, p.y]);
-                scores.score(&oc, &located, robot, cone.zoom)
+                // The class's profile was checked above.
+                scores.score(&oc, &located, robot, cone.zoom).ok().flatten()
             })
             .collect();
         self.score_images += 1;

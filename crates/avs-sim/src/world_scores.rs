@@ -22,8 +22,8 @@
 //! assert!(matches!(off.key, FeatureKey::Phantom(_)) && !off.feature.is_object);
 //! // Its latent score seen from 1.5 m is fixed by the seed alone.
 //! let robot = [truth.x - 1.5, truth.y];
-//! let a = WorldScores::new(3).latent(cereal, &at_box, robot, 1.0);
-//! let b = WorldScores::new(3).latent(cereal, &at_box, robot, 1.0);
+//! let a = WorldScores::new(3).latent(cereal, &at_box, robot, 1.0).unwrap();
+//! let b = WorldScores::new(3).latent(cereal, &at_box, robot, 1.0).unwrap();
 //! assert_eq!(a, b);
 //! ```
 //!
@@ -123,16 +123,22 @@ pub struct Located {
 
 /// The profile of a knowledge class ([`ScoreProfile::for_class`] of its detection range), or
 /// why there is none: the message names the class's `detection_range`.
-pub fn class_profile(class: &ObjectClass) -> Result<ScoreProfile, String> {
+pub fn class_profile(class: &ObjectClass) -> Result<ScoreProfile, NoProfile> {
     let p = ScoreProfile::for_class(class.detection_range);
     p.check().map(|()| p).map_err(|e| {
-        format!(
+        NoProfile(format!(
             "knowledge class `{}` detection_range {:?}: no correlated detector ({e}); expected a \
              positive maximum distance",
             class.name, class.detection_range
-        )
+        ))
     })
 }
+
+/// A class whose detection range gives no correlated detector ([`class_profile`]): the message
+/// names the class and the field.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct NoProfile(pub String);
 
 /// One class's detector and the index of each of its features by key.
 #[derive(Debug, Clone)]
@@ -241,11 +247,9 @@ impl WorldScores {
     }
 
     /// The profile the detector of `class` scores with.
-    ///
-    /// # Panics
-    /// When the class has no profile ([`class_profile`]).
-    pub fn profile(&mut self, class: &ObjectClass) -> &ScoreProfile {
-        self.detector(class).det.profile()
+    /// An error when the class has no profile ([`class_profile`]).
+    pub fn profile(&mut self, class: &ObjectClass) -> Result<&ScoreProfile, NoProfile> {
+        Ok(self.detector(class)?.det.profile())
     }
 
     /// The detector of `class` and the index of `located`'s feature in it, each created on
@@ -254,8 +258,8 @@ impl WorldScores {
         &mut self,
         class: &ObjectClass,
         located: &Located,
-    ) -> (&mut CorrelatedDetector, usize) {
-        let cd = self.detector(class);
+    ) -> Result<(&mut CorrelatedDetector, usize), NoProfile> {
+        let cd = self.detector(class)?;
         let i = match cd.index.get(&located.key) {
             Some(&i) => i,
             None => {
@@ -272,67 +276,61 @@ impl WorldScores {
                 i
             }
         };
-        (&mut cd.det, i)
+        Ok((&mut cd.det, i))
     }
 
-    fn detector(&mut self, class: &ObjectClass) -> &mut ClassDetector {
+    fn detector(&mut self, class: &ObjectClass) -> Result<&mut ClassDetector, NoProfile> {
         let seed = self.seed;
-        self.classes.entry(class.name.clone()).or_insert_with(|| {
-            let profile = class_profile(class).unwrap_or_else(|e| panic!("{e}"));
-            ClassDetector {
+        Ok(match self.classes.entry(class.name.clone()) {
+            std::collections::btree_map::Entry::Occupied(e) => e.into_mut(),
+            std::collections::btree_map::Entry::Vacant(e) => e.insert(ClassDetector {
                 det: CorrelatedDetector::new(
-                    profile,
+                    class_profile(class)?,
                     Vec::new(),
                     Self::class_seed(seed, &class.name),
                 ),
                 index: HashMap::new(),
-            }
+            }),
         })
     }
 
     /// The latent score (mean plus nuisance field, no white noise) of `located` for the
     /// detector of `class`, seen from `robot` with zoom `zoom`, whether or not the detector
     /// sees it there.
-    ///
-    /// # Panics
-    /// When the class has no profile ([`class_profile`]).
+    /// An error when the class has no profile ([`class_profile`]).
     pub fn latent(
         &mut self,
         class: &ObjectClass,
         located: &Located,
         robot: [f64; 2],
         zoom: f64,
-    ) -> f64 {
+    ) -> Result<f64, NoProfile> {
         let (r, phi) = Self::vantage(located, robot, zoom);
-        let (det, i) = self.feature(class, located);
-        det.latent(i, r, phi)
+        let (det, i) = self.feature(class, located)?;
+        Ok(det.latent(i, r, phi))
     }
 
     /// One look's score of `located` for the detector of `class` from `robot` with zoom
     /// `zoom`: latent score plus white noise, or `None` (no noise drawn) when the profile does
     /// not see the feature from that vantage ([`ScoreProfile::sees`]).
-    ///
-    /// # Panics
-    /// When the class has no profile ([`class_profile`]).
+    /// An error when the class has no profile ([`class_profile`]).
     pub fn score(
         &mut self,
         class: &ObjectClass,
         located: &Located,
         robot: [f64; 2],
         zoom: f64,
-    ) -> Option<f64> {
+    ) -> Result<Option<f64>, NoProfile> {
         let (r, phi) = Self::vantage(located, robot, zoom);
-        let (det, i) = self.feature(class, located);
-        det.score_from(i, r, phi)
+        let (det, i) = self.feature(class, located)?;
+        Ok(det.score_from(i, r, phi))
     }
 
     /// Whether the detector of `class` fires on `score` (above the profile's
     /// `fire_threshold`).
-    ///
-    /// # Panics
-    /// When the class has no profile ([`class_profile`]).
-    pub fn fires(&mut self, class: &ObjectClass, score: f64) -> bool {
-        self.detector(class).det.fires(score)
+    /// An error when the class has no profile ([`class_profile`]).
+    pub fn fires(&mut self, class: &ObjectClass, score: f64) -> Result<bool, NoProfile> {
+        Ok(self.detector(class)?.det.fires(score))
     }
 }
 
@@ -369,5 +367,30 @@ mod tests {
         assert_eq!(a, WorldScores::class_seed(1, "mug"));
         assert_ne!(a, WorldScores::class_seed(1, "cerealbox"));
         assert_ne!(a, WorldScores::class_seed(2, "mug"));
+    }
+
+    #[test]
+    fn a_class_without_a_profile_is_an_error_naming_it_not_a_panic() {
+        let class = ObjectClass {
+            name: "ghost".into(),
+            size: [0.1, 0.1, 0.1],
+            detection_range: [0.0, 0.0],
+            recognition_range: [0.0, 0.0],
+            landmark: false,
+            verifier: None,
+        };
+        let mut w = WorldScores::new(1);
+        let e = w.fires(&class, 2.0).unwrap_err();
+        assert!(e.to_string().contains("ghost") && e.to_string().contains("detection_range"));
+        let located = Located {
+            key: FeatureKey::phantom([0.0, 0.0]),
+            feature: Feature {
+                position: [0.0, 0.0],
+                facing: 0.0,
+                is_object: false,
+            },
+        };
+        assert!(w.score(&class, &located, [1.0, 0.0], 1.0).is_err());
+        assert!(w.profile(&class).is_err());
     }
 }

@@ -335,35 +335,43 @@ fn the_order_of_queries_does_not_change_a_features_field() {
     let f: Vec<f64> = spots
         .iter()
         .map(|&p| {
-            forward.latent(
-                &cereal,
-                &WorldScores::locate(&world, &cereal, p),
-                robot_at,
-                1.0,
-            )
+            forward
+                .latent(
+                    &cereal,
+                    &WorldScores::locate(&world, &cereal, p),
+                    robot_at,
+                    1.0,
+                )
+                .unwrap()
         })
         .collect();
     // Backward, after other classes and other spots.
     let mut backward = WorldScores::new(9);
     for p in [[1.0, 1.0], [7.0, 7.0], MUG] {
-        backward.latent(&mug, &WorldScores::locate(&world, &mug, p), robot_at, 1.0);
-        backward.latent(
-            &cereal,
-            &WorldScores::locate(&world, &cereal, p),
-            [4.0, 1.0],
-            2.0,
-        );
+        backward
+            .latent(&mug, &WorldScores::locate(&world, &mug, p), robot_at, 1.0)
+            .unwrap();
+        backward
+            .latent(
+                &cereal,
+                &WorldScores::locate(&world, &cereal, p),
+                [4.0, 1.0],
+                2.0,
+            )
+            .unwrap();
     }
     let mut g: Vec<f64> = spots
         .iter()
         .rev()
         .map(|&p| {
-            backward.latent(
-                &cereal,
-                &WorldScores::locate(&world, &cereal, p),
-                robot_at,
-                1.0,
-            )
+            backward
+                .latent(
+                    &cereal,
+                    &WorldScores::locate(&world, &cereal, p),
+                    robot_at,
+                    1.0,
+                )
+                .unwrap()
         })
         .collect();
     g.reverse();
@@ -375,7 +383,7 @@ fn the_order_of_queries_does_not_change_a_features_field() {
     assert_eq!(a.key, b.key);
     assert!(matches!(a.key, FeatureKey::Phantom(_)));
     let mut other = WorldScores::new(10);
-    assert_ne!(other.latent(&cereal, &a, robot_at, 1.0), f[2]);
+    assert_ne!(other.latent(&cereal, &a, robot_at, 1.0).unwrap(), f[2]);
 
     // The robot's scores are those fields plus white noise, whatever it was asked before.
     let mut robot = new_robot(&world, DetectorKind::Independent, 9);
@@ -406,7 +414,7 @@ fn the_order_of_queries_does_not_change_a_features_field() {
         .zip(&scores)
         .map(|(p, s)| {
             let l = WorldScores::locate(&world, &cereal, [p.x, p.y]);
-            s.expect("in view") - fresh.latent(&cereal, &l, robot_at, 1.0)
+            s.expect("in view") - fresh.latent(&cereal, &l, robot_at, 1.0).unwrap()
         })
         .collect();
     let sn = box_profile().no_object.noise_std;
