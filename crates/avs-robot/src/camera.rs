@@ -31,6 +31,15 @@ impl Camera {
     pub fn clamp_tilt(&self, tilt: f64) -> f64 {
         tilt.clamp(self.tilt_limits[0], self.tilt_limits[1])
     }
+
+    /// Pan and tilt (radians, kept inside the limits) that centre the image of a robot at
+    /// `pose` on the point `target` (x, y, height).
+    pub fn aim(&self, pose: crate::Pose2D, target: crate::Point3) -> (f64, f64) {
+        let (dx, dy) = (target.x - pose.x, target.y - pose.y);
+        let pan = avs_map::geometry::wrap_angle(dy.atan2(dx) - pose.yaw);
+        let tilt = (target.z - self.height).atan2(dx.hypot(dy));
+        (self.clamp_pan(pan), self.clamp_tilt(tilt))
+    }
 }
 
 impl From<&avs_format::environment::Camera> for Camera {
@@ -67,6 +76,28 @@ mod tests {
         assert_eq!(c.tilt_limits[0], file.tilt_deg[0].to_radians());
         assert_eq!(c.max_zoom, file.max_zoom);
         assert!((c.pan_limits[1] - std::f64::consts::PI).abs() < 1e-12);
+    }
+
+    #[test]
+    fn aiming_centres_a_point_ahead_left_and_below_within_the_limits() {
+        let c = Camera::default();
+        let pose = crate::Pose2D::new(1.0, 1.0, std::f64::consts::FRAC_PI_2);
+        // 2 m to the robot's left (−x in the world), 1.2 m below the camera.
+        let at = crate::Point3 {
+            x: -1.0,
+            y: 1.0,
+            z: c.height - 1.2,
+        };
+        let (pan, tilt) = c.aim(pose, at);
+        assert!((pan - std::f64::consts::FRAC_PI_2).abs() < 1e-12, "{pan}");
+        assert!((tilt - (-1.2f64).atan2(2.0)).abs() < 1e-12, "{tilt}");
+        // Straight down is beyond the tilt limit: clamped.
+        let below = crate::Point3 {
+            x: 1.0,
+            y: 1.01,
+            z: 0.0,
+        };
+        assert_eq!(c.aim(pose, below).1, c.tilt_limits[0]);
     }
 
     #[test]

@@ -131,7 +131,7 @@ use crate::place_classifier::{PlaceClassifier, PlaceClassifierConfig};
 pub use crate::robot::DoorEvent;
 use crate::robot::SimRobot;
 use crate::sensors::{Detector, DetectorConfig, SensorError};
-use crate::world::{wrap_angle, CameraView, SimError, World};
+use crate::world::{CameraView, SimError, World};
 use crate::world_scores::{class_profile, WorldScores};
 use avs_format::knowledge::Knowledge;
 use avs_map::grid::Cell;
@@ -570,7 +570,7 @@ impl Robot for SimAgentRobot<'_> {
         let scores = at
             .iter()
             .map(|p| {
-                let seen = in_image(&view, [p.x, p.y, p.z])
+                let seen = view.off_axis([p.x, p.y, p.z]).in_image(&view)
                     && line_of_sight(walls, robot, [p.x, p.y], false);
                 if !seen {
                     return None;
@@ -589,15 +589,4 @@ impl Robot for SimAgentRobot<'_> {
             detector_seconds: profile.processing_seconds,
         })
     }
-}
-
-/// Whether point `p` (x, y, height) lies inside the image of `view`: its bearing and elevation
-/// off the optical axis within half the fields of view (as [`World::objects_in_view`] tests
-/// an object's top centre).
-fn in_image(view: &CameraView, p: [f64; 3]) -> bool {
-    let (dx, dy, dz) = (p[0] - view.eye[0], p[1] - view.eye[1], p[2] - view.eye[2]);
-    let ground = dx.hypot(dy);
-    let bearing = wrap_angle(dy.atan2(dx) - view.yaw);
-    let elevation = dz.atan2(ground) - view.tilt;
-    bearing.abs() <= view.hfov / 2.0 && elevation.abs() <= view.vfov / 2.0
 }

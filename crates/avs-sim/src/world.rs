@@ -223,16 +223,8 @@ impl World {
         let mut out = Vec::new();
         for (i, o) in self.env.objects.iter().enumerate() {
             let top = o.pose.z + o.size[2] / 2.0;
-            let (dx, dy, dz) = (
-                o.pose.x - view.eye[0],
-                o.pose.y - view.eye[1],
-                top - view.eye[2],
-            );
-            let ground = (dx * dx + dy * dy).sqrt();
-            let distance = (ground * ground + dz * dz).sqrt();
-            let bearing = wrap_angle(dy.atan2(dx) - view.yaw);
-            let elevation = dz.atan2(ground) - view.tilt;
-            if bearing.abs() > view.hfov / 2.0 || elevation.abs() > view.vfov / 2.0 {
+            let at = view.off_axis([o.pose.x, o.pose.y, top]);
+            if !at.in_image(view) {
                 continue;
             }
             // Occlusion by walls and closed doors; the object's own cell is not an occluder.
@@ -244,9 +236,9 @@ impl World {
             );
             out.push(ViewedObject {
                 index: i,
-                distance,
-                bearing,
-                elevation,
+                distance: at.distance,
+                bearing: at.bearing,
+                elevation: at.elevation,
                 visible,
             });
         }
@@ -278,6 +270,42 @@ pub struct CameraView {
     pub hfov: f64,
     /// Vertical field of view, radians.
     pub vfov: f64,
+}
+
+impl CameraView {
+    /// Where the point `p` (x, y, height) lies in the image: `(bearing, elevation)` off the
+    /// optical axis (radians), and its ground and 3-D distances from the camera (metres).
+    pub fn off_axis(&self, p: [f64; 3]) -> OffAxis {
+        let (dx, dy, dz) = (p[0] - self.eye[0], p[1] - self.eye[1], p[2] - self.eye[2]);
+        // Square roots rather than `hypot`: the detector's figures stay those it always had.
+        let ground = (dx * dx + dy * dy).sqrt();
+        OffAxis {
+            bearing: wrap_angle(dy.atan2(dx) - self.yaw),
+            elevation: dz.atan2(ground) - self.tilt,
+            ground,
+            distance: (ground * ground + dz * dz).sqrt(),
+        }
+    }
+}
+
+/// A point's place in a camera's image ([`CameraView::off_axis`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OffAxis {
+    /// Angle off the optical axis in the plane, radians.
+    pub bearing: f64,
+    /// Angle above the optical axis, radians.
+    pub elevation: f64,
+    /// Distance in the plane, metres.
+    pub ground: f64,
+    /// Distance in space, metres.
+    pub distance: f64,
+}
+
+impl OffAxis {
+    /// Whether the point is inside the image of `view` (within half of each field of view).
+    pub fn in_image(&self, view: &CameraView) -> bool {
+        self.bearing.abs() <= view.hfov / 2.0 && self.elevation.abs() <= view.vfov / 2.0
+    }
 }
 
 /// One object inside a camera's field of view.

@@ -98,6 +98,23 @@ fn p3(p: [f64; 3]) -> Point3 {
     }
 }
 
+/// Spots 0.6 m high on a fan in front of a robot at (2, 4) facing +x: `ranges = [first,
+/// step, count]` metres × `bearings = [first, step, count]` degrees, range fastest.
+fn fan(ranges: [f64; 3], bearings: [f64; 3]) -> Vec<Point3> {
+    let (nr, nb) = (ranges[2] as usize, bearings[2] as usize);
+    (0..nr * nb)
+        .map(|i| {
+            let r = ranges[0] + ranges[1] * (i % nr) as f64;
+            let b = (bearings[0] + bearings[1] * (i / nr) as f64).to_radians();
+            Point3 {
+                x: 2.0 + r * b.cos(),
+                y: 4.0 + r * b.sin(),
+                z: 0.6,
+            }
+        })
+        .collect()
+}
+
 fn mean(x: &[f64]) -> f64 {
     x.iter().sum::<f64>() / x.len() as f64
 }
@@ -216,19 +233,7 @@ fn two_looks_from_one_pose_differ_only_by_white_noise() {
     let world = two_rooms(true);
     let cone = ViewCone::new(Pose2D::new(2.0, 4.0, 0.0), 0.0, -0.35, 1.0);
     // 150 spots on a fan in front of the robot (1.2 to 3.4 m, ±18°), most of them clutter.
-    let at: Vec<Point3> = (0..150)
-        .map(|i| {
-            let (r, b) = (
-                1.2 + 0.16 * (i % 15) as f64,
-                (-18.0 + 4.0 * (i / 15) as f64).to_radians(),
-            );
-            Point3 {
-                x: 2.0 + r * b.cos(),
-                y: 4.0 + r * b.sin(),
-                z: 0.6,
-            }
-        })
-        .collect();
+    let at = fan([1.2, 0.16, 15.0], [-18.0, 4.0, 10.0]);
     let (mut diff, mut first) = (Vec::new(), Vec::new());
     for seed in 11..15 {
         let mut robot = new_robot(&world, DetectorKind::Independent, seed);
@@ -388,19 +393,7 @@ fn the_order_of_queries_does_not_change_a_features_field() {
     // The robot's scores are those fields plus white noise, whatever it was asked before.
     let mut robot = new_robot(&world, DetectorKind::Independent, 9);
     let cone = ViewCone::new(Pose2D::new(2.0, 4.0, 0.0), 0.0, -0.35, 1.0);
-    let fan: Vec<Point3> = (0..120)
-        .map(|i| {
-            let (r, b) = (
-                1.3 + 0.2 * (i % 12) as f64,
-                (-18.0 + 3.6 * (i / 12) as f64).to_radians(),
-            );
-            Point3 {
-                x: 2.0 + r * b.cos(),
-                y: 4.0 + r * b.sin(),
-                z: 0.6,
-            }
-        })
-        .collect();
+    let fan = fan([1.3, 0.2, 12.0], [-18.0, 3.6, 10.0]);
     let mut reversed = fan.clone();
     reversed.reverse();
     robot.detector_scores(&cone, "mug", &fan).unwrap();

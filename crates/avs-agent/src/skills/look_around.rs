@@ -9,7 +9,6 @@ use crate::memory::{Known, Memory};
 use crate::run::Run;
 use crate::trace::{CategoryBelief, Event, LandmarkCount};
 use crate::AgentError;
-use avs_map::geometry::wrap_angle;
 use avs_robot::{Detection, Robot, ViewCone};
 use std::collections::BTreeMap;
 
@@ -73,10 +72,7 @@ pub(crate) fn look_around<R: Robot + ?Sized>(
     let mut confirmed = Vec::new();
     for (d, mut n) in clusters {
         if n < t.look_min_sightings {
-            let (dx, dy) = (d.pose.x - pose.x, d.pose.y - pose.y);
-            let pan = wrap_angle(dy.atan2(dx) - pose.yaw);
-            let tilt = cam.clamp_tilt((d.pose.z - cam.height).atan2(dx.hypot(dy)));
-            let pan = cam.clamp_pan(pan);
+            let (pan, tilt) = cam.aim(pose, d.pose);
             let again = body
                 .look(
                     &ViewCone::new(pose, pan, tilt, 1.0),

@@ -1,7 +1,7 @@
 //! The `count` rule: a closer look at a sighting before it is reported (the verification step
 //! of Masuzawa & Miura, `001` §4, reduced to one viewpoint), accepted on enough detections.
 
-use super::{aim, Verdict};
+use super::Verdict;
 use crate::body::Body;
 use crate::memory::{path_len_on, Memory};
 use crate::run::Run;
@@ -102,7 +102,7 @@ pub(crate) fn count_rule<R: Robot + ?Sized>(
         }
         let pose = body.pose();
         let (dx, dy) = (target[0] - pose.x, target[1] - pose.y);
-        let (pan, tilt) = aim(&cam, pose, d.pose);
+        let (pan, tilt) = cam.aim(pose, d.pose);
         looks += 1;
         // Zoom in so that the sighting lies in the middle of the recognition range (Sjöö
         // et al., §3.4: the distance interval scales with the zoom).

@@ -40,8 +40,7 @@ use crate::trace::Event;
 use crate::AgentError;
 use avs_concepts::Location;
 use avs_format::verifier::VerifierStrategy;
-use avs_map::geometry::wrap_angle;
-use avs_robot::{Camera, Detection, Point3, Pose2D, Robot};
+use avs_robot::{Detection, Robot};
 
 /// The prior of a candidate is kept at least this far from 0 and 1.
 pub(crate) const PRIOR_FLOOR: f64 = 0.01;
@@ -167,13 +166,4 @@ fn candidate_prior(mem: &Memory, label: &str, at: [f64; 2]) -> f64 {
     p.filter(|p| p.is_finite())
         .unwrap_or(0.5)
         .clamp(PRIOR_FLOOR, 1.0 - PRIOR_FLOOR)
-}
-
-/// Pan and tilt (radians, within the camera's limits) that point the camera of a robot at
-/// `pose` at `target`.
-fn aim(cam: &Camera, pose: Pose2D, target: Point3) -> (f64, f64) {
-    let (dx, dy) = (target.x - pose.x, target.y - pose.y);
-    let pan = cam.clamp_pan(wrap_angle(dy.atan2(dx) - pose.yaw));
-    let tilt = cam.clamp_tilt((target.z - cam.height).atan2(dx.hypot(dy)));
-    (pan, tilt)
 }

@@ -49,7 +49,7 @@
 //!   times the zoom), beyond the way back to where the robot saw the candidate, count as
 //!   unreachable for the planners (bounded path searches on a large map).
 
-use super::{aim, Verdict};
+use super::Verdict;
 use crate::body::Body;
 use crate::memory::Memory;
 use crate::run::Run;
@@ -261,7 +261,7 @@ pub(super) fn verify_by_model<R: Robot + ?Sized>(
                 }
             }
             let pose = body.pose();
-            let (pan, tilt) = aim(&cam, pose, d.pose);
+            let (pan, tilt) = cam.aim(pose, d.pose);
             let cone = ViewCone::new(pose, pan, tilt, zoom);
             let read = body.scores(&cone, label, std::slice::from_ref(&d.pose));
             let score = match read {
