@@ -32,9 +32,11 @@ use avs_map::grid::OccupancyGrid;
 use serde::{Deserialize, Serialize};
 
 mod camera;
+mod image;
 mod scripted;
 
 pub use camera::Camera;
+pub use image::{AttentionReport, FeatureMatch, ImageGeometry, RecognitionReport, VoteMatrix};
 pub use scripted::{
     Call, ScriptedRobot, SCRIPTED_MATCH_RADIUS, SCRIPTED_NO_OBJECT_SCORE, SCRIPTED_OBJECT_SCORE,
 };
@@ -339,6 +341,34 @@ pub trait Robot {
         Err(ActionFailure::new(
             FailureReason::Unsupported,
             "this robot's detector reports no scores at hypothesised locations",
+        ))
+    }
+
+    /// Move to the view cone's pose if not there, point the camera, zoom, take an image and
+    /// run the attention for each of `classes`: one vote matrix per class (Sjöö et al. `004`
+    /// §3.2). The zoom pipeline (`avs_view::zoom`) finds hypotheses in them.
+    ///
+    /// A robot without an attention mechanism keeps the default, which fails with
+    /// [`FailureReason::Unsupported`]; the agent then uses [`Robot::process_view_cone`].
+    fn attention(&mut self, cone: &ViewCone, classes: &[String]) -> ActionResult<AttentionReport> {
+        let _ = (cone, classes);
+        Err(ActionFailure::new(
+            FailureReason::Unsupported,
+            "this robot has no attention mechanism (vote matrices)",
+        ))
+    }
+
+    /// Move to the view cone's pose if not there, point the camera, zoom, take an image and
+    /// match the features of `class`'s model in it (Sjöö et al. `004` §3.5): the matches with
+    /// their scale ratios, from which the zoom pipeline estimates the distance (§3.3.2) and
+    /// decides recognition (≥ 5 % of the model's features).
+    ///
+    /// The default fails with [`FailureReason::Unsupported`].
+    fn recognise(&mut self, cone: &ViewCone, class: &str) -> ActionResult<RecognitionReport> {
+        let _ = (cone, class);
+        Err(ActionFailure::new(
+            FailureReason::Unsupported,
+            "this robot has no feature recogniser",
         ))
     }
 }

@@ -8,7 +8,8 @@
 //!   never saw;
 //! * [`sight`] — 2½-D sight lines over known furniture;
 //! * [`heights`] — the heights an object is looked for at;
-//! * [`zoom`] — zoom levels (the zoom pipeline of `004` §3 will live here).
+//! * [`zoom`] — the zoom pipeline of `004` §3 (hypotheses, distance estimates, zoom windows,
+//!   the three-step search) and the zoom levels view planning uses.
 //!
 //! The view-cone POMDP that orders the cones' processing is `avs-pomdp`'s; the agent that asks
 //! for the cones and runs them is `avs-agent`'s.
@@ -68,4 +69,4 @@ pub use error::{Result, ViewError};
 pub use heights::search_heights;
 pub use sight::{sight_clear, SightLine};
 pub use surface::{lattice_step, surface_classes, unseen_tops, Surface};
-pub use zoom::view_zooms;
+pub use zoom::{view_zooms, ObjectModel};

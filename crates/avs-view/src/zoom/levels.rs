@@ -1,6 +1,5 @@
 //! Zoom levels for view planning (Sjöö et al. `004` §3.4: at zoom `z` the fields of view are
-//! divided by `z` and the detection distances multiplied by it). The zoom pipeline (hypotheses,
-//! distance estimates, zoom windows) will live beside this.
+//! divided by `z` and the detection distances multiplied by it).
 
 /// The zoom levels view planning may use with a camera zooming up to `max_zoom`: 1, 2, 4, …
 /// (each doubles the distance at which a small object is detected and halves the fields of
