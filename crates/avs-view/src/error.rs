@@ -11,6 +11,9 @@ pub enum ViewError {
         /// What is wrong and what is expected.
         message: String,
     },
+    /// The exact view plan's solver failed (a numerical failure it could not recover from).
+    #[error("the exact view plan could not be solved: {0}")]
+    Solver(String),
 }
 
 /// The result of view planning.

@@ -4,6 +4,9 @@
 //!
 //! * [`cover`] — CREATEVIEWCONES (Sjöö et al. `004` §2.1): candidate views (pose × pan × tilt,
 //!   and zoom levels) and the greedy set cover over a location's points;
+//! * [`plan`] — view planning for several classes at once (`004` §2.1: distance limits from
+//!   eq. 1, greedy k-coverage of (class, cell) pairs, the tilt rule, the exact optimum,
+//!   nearest-first execution);
 //! * [`surface`] — the surfaces small objects rest on and the points on a top the laser
 //!   never saw;
 //! * [`sight`] — 2½-D sight lines over known furniture;
@@ -57,6 +60,7 @@
 pub mod cover;
 pub mod error;
 pub mod heights;
+pub mod plan;
 pub mod sight;
 pub mod surface;
 pub mod zoom;

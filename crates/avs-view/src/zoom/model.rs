@@ -98,12 +98,13 @@ impl ObjectModel {
         }
     }
 
-    /// The distance at which the object's smaller face side spans one vote cell at zoom 1: the
-    /// maximum detection distance of the planning step (§3.2, "the distance at which an object
-    /// would occupy a single cell at no zoom").
+    /// The distance at which the object's image covers one vote cell at zoom 1: the maximum
+    /// detection distance of the planning step (§3.2, "the distance at which an object would
+    /// occupy a single cell at no zoom"). *Occupy* read as area: the face's `√(W·H)` spans
+    /// the cell's side (a long thin object is not seen as far as a square one of its length).
     pub fn single_cell_distance(&self, camera: &Camera, image: &ImageGeometry) -> f64 {
         let f = image.focal_px(camera.hfov);
-        self.width.min(self.height) * f / f64::from(image.cell_px)
+        (self.width * self.height).sqrt() * f / f64::from(image.cell_px)
     }
 
     /// The distance from a hypothesis's vote area (§3.3.1): `D = W_real W_im / (2 tan(α/2)
@@ -214,8 +215,8 @@ mod tests {
     fn a_cup_spans_one_vote_cell_a_few_metres_away() {
         let (c, g) = (camera(), ImageGeometry::default());
         let d = cup().single_cell_distance(&c, &g);
-        // 10 cm over 15 px with a 364 px focal length: 2.4 m.
-        assert!((d - 0.10 * g.focal_px(c.hfov) / 15.0).abs() < 1e-12);
-        assert!((2.0..3.0).contains(&d), "{d}");
+        // √(14 × 10) cm over 15 px with a 364 px focal length: 2.9 m.
+        assert!((d - (0.14f64 * 0.10).sqrt() * g.focal_px(c.hfov) / 15.0).abs() < 1e-12);
+        assert!((2.5..3.0).contains(&d), "{d}");
     }
 }
