@@ -61,6 +61,11 @@ enum Command {
     Verify(cmd::verify::Command),
     /// Detection verification over repeated trials of a scenario (precision, recall, path).
     VerifyBench(cmd::verify::BenchArgs),
+    /// The view plan of one room for several classes at once (standpoints, images, coverage).
+    Views(cmd::views::Args),
+    /// Calibrate the simulated camera image against Sjöö et al.'s Figs. 7–10: tables and SVG
+    /// charts of hypotheses and distance estimates over distance.
+    ZoomBench(cmd::zoom_bench::Args),
 }
 
 /// Rust ignores SIGPIPE, so a write to a closed pipe (`avs schema environment | head -c1`) is an
@@ -101,6 +106,8 @@ fn main() -> ExitCode {
         Command::Gp(c) => cmd::gp::run(c),
         Command::Verify(c) => cmd::verify::run(c),
         Command::VerifyBench(a) => cmd::verify::bench(a),
+        Command::Views(a) => cmd::views::run(a),
+        Command::ZoomBench(a) => cmd::zoom_bench::run(a),
         Command::Examples(a) => cmd::examples::run(a),
     };
     // Usage errors (flags clap cannot parse) exit 2 from `Cli::parse`; everything a command

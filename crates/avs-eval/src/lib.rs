@@ -14,7 +14,10 @@
 //! * [`scenario`] — the scenario runner: a scenario file re-enacted (world edits, searches
 //!   before the goal), its expected properties checked and its text trace compared with the
 //!   golden file (the plan-trace suite in `tests/plan_traces/`);
-//! * [`verification`] — the detection-verification harness and bench (`avs verify-bench`).
+//! * [`verification`] — the detection-verification harness and bench (`avs verify-bench`);
+//! * [`views`] — a room's view plan for several classes (`avs views`);
+//! * [`zoom_calibration`] — the calibration bench of the simulated camera image against Sjöö et
+//!   al.'s Figs. 7–10 (`avs zoom-bench`).
 //!
 //! The `avs` CLI's `run`, `search` and `bench` are thin layers over this crate.
 //!
@@ -50,5 +53,7 @@ pub mod inputs;
 pub mod scenario;
 pub mod stats;
 pub mod verification;
+pub mod views;
+pub mod zoom_calibration;
 
 pub use error::EvalError;

@@ -34,6 +34,7 @@ pub mod check;
 pub mod detector;
 pub mod explore;
 pub mod generate;
+pub mod image;
 pub mod place_classifier;
 pub mod render;
 pub mod robot;
@@ -44,5 +45,6 @@ pub mod world;
 pub mod world_scores;
 
 pub use explore::Explorer;
+pub use image::{ImageModel, ImageScene};
 pub use robot::{Motion, SimRobot};
 pub use world::{load_grid, load_map, CameraView, SimError, ViewedObject, World};

@@ -102,6 +102,33 @@
 //! assert_eq!((robot.score_images(), report.detector_seconds), (1, 1.0));
 //! ```
 //!
+//! **Camera images** ([`Robot::attention`], [`Robot::recognise`]). The robot moves to the cone's
+//! pose as for a view (the same random view failure), and takes an image from where it stands
+//! with the cone's pan, tilt and zoom: the scene is every object of the world whose face is in
+//! the image and not hidden by walls or closed doors (the robot's current grid), before a
+//! background of [`ImageConfig::clutter`] at the distance of the wall along the optical axis
+//! ([`crate::image::world_scene`]); faces are the knowledge's `size[0] × size[2]`. The
+//! attention gives one vote matrix per class, the recogniser the class's matched features
+//! ([`crate::image`]). Both draw from a generator of their own (stream [`IMAGE_STREAM`] of the
+//! robot's seed), so asking for images changes nothing else the robot draws, and count their
+//! simulated processing time ([`SimAgentRobot::images`], [`SimAgentRobot::image_seconds`]).
+//! Unknown classes are [`FailureReason::InvalidRequest`].
+//!
+//! ```
+//! use avs_robot::{Pose2D, Robot, ViewCone};
+//! use avs_sim::sim_robot::{SimAgentRobot, SimRobotConfig};
+//! let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+//! let world = avs_sim::World::load(&root.join("domains/environments/office.yaml")).unwrap();
+//! let knowledge = avs_format::load_yaml(&root.join("knowledge/office.yaml")).unwrap();
+//! let mut robot = SimAgentRobot::new(&world, knowledge, SimRobotConfig::default(), 1).unwrap();
+//! let view = ViewCone::new(Pose2D::new(5.5, 3.5, std::f64::consts::FRAC_PI_2), 0.0, -0.2, 1.0);
+//! let seen = robot.attention(&view, &["cerealbox".to_string()]).unwrap();
+//! assert_eq!((seen.votes.len(), seen.votes[0].cols, seen.votes[0].rows), (1, 21, 16));
+//! let matched = robot.recognise(&view, "cerealbox").unwrap();
+//! assert_eq!(matched.model_features, 200);
+//! assert_eq!(robot.images(), 2);
+//! ```
+//!
 //! Unreachable goals (no collision-free path in the true world, e.g. behind a closed door)
 //! report [`FailureReason::Unreachable`]; bad requests (non-finite numbers, outside the
 //! camera's limits, unknown classes) report [`FailureReason::InvalidRequest`] and do nothing.
@@ -127,6 +154,7 @@
 //! assert!(robot.process_view_cone(&view, &["unicorn".to_string()]).is_err());
 //! ```
 
+use crate::image::{ClassAppearance, ImageModel};
 use crate::place_classifier::{PlaceClassifier, PlaceClassifierConfig};
 pub use crate::robot::DoorEvent;
 use crate::robot::SimRobot;
@@ -137,10 +165,12 @@ use avs_format::knowledge::Knowledge;
 use avs_map::grid::Cell;
 use avs_map::raycast::line_of_sight;
 use avs_robot::{
-    ActionFailure, ActionResult, Camera, DoorSighting, FailureReason, MapUpdate, MoveReport,
-    PlaceReading, Point3, Pose2D, Robot, ScoreReport, ViewCone, ViewReport,
+    ActionFailure, ActionResult, AttentionReport, Camera, DoorSighting, FailureReason,
+    ImageGeometry, MapUpdate, MoveReport, PlaceReading, Point3, Pose2D, RecognitionReport, Robot,
+    ScoreReport, ViewCone, ViewReport,
 };
-use rand::Rng;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 /// Rates of random action failures, each a probability per action in [0, 1].
@@ -178,7 +208,36 @@ pub struct SimRobotConfig {
     pub place_classifier: PlaceClassifierConfig,
     /// Which detector views use ([`DetectorKind::Independent`] by default).
     pub detector_kind: DetectorKind,
+    /// The camera image of [`Robot::attention`] and [`Robot::recognise`].
+    pub image: ImageConfig,
 }
+
+/// The simulated camera image of [`Robot::attention`] and [`Robot::recognise`] ([`crate::image`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImageConfig {
+    /// The image model's parameters.
+    pub model: ImageModel,
+    /// The image's size and vote cells.
+    pub geometry: ImageGeometry,
+    /// How cluttered the background behind the objects is, in `[0, 1]` (0 a plain wall, 1 a
+    /// typical office scene; 1 by default).
+    pub clutter: f64,
+}
+
+impl Default for ImageConfig {
+    fn default() -> Self {
+        Self {
+            model: ImageModel::default(),
+            geometry: ImageGeometry::default(),
+            clutter: 1.0,
+        }
+    }
+}
+
+/// The stream of the robot's seed that the camera images draw from ([`Robot::attention`],
+/// [`Robot::recognise`]): never stream 0, the robot's own generator, so images change nothing
+/// else the robot draws.
+pub const IMAGE_STREAM: u64 = 0x1_3A6E;
 
 /// How far from the requested view pose the robot may be and still take the view there, m.
 const AT_POSE: f64 = 0.05;
@@ -200,6 +259,12 @@ pub struct SimAgentRobot<'w> {
     /// Images taken for [`Robot::detector_scores`] and their simulated processing seconds.
     score_images: usize,
     score_seconds: f64,
+    /// The camera image's configuration and generator (its own stream, [`IMAGE_STREAM`]).
+    image: ImageConfig,
+    image_rng: ChaCha8Rng,
+    /// Images taken for attention and recognition, and their simulated processing seconds.
+    images: usize,
+    image_seconds: f64,
 }
 
 impl<'w> SimAgentRobot<'w> {
@@ -244,6 +309,21 @@ impl<'w> SimAgentRobot<'w> {
                 },
             })?;
         let trail = vec![[sim.pose[0], sim.pose[1]]];
+        if !(0.0..=1.0).contains(&config.image.clutter) {
+            return Err(SensorError::Config {
+                field: "image.clutter",
+                value: config.image.clutter,
+                expected: "a clutter in [0, 1]",
+            });
+        }
+        if let Some(problem) = config.image.geometry.problem() {
+            return Err(SensorError::Robot {
+                field: "image.geometry".to_string(),
+                message: problem,
+            });
+        }
+        let mut image_rng = ChaCha8Rng::seed_from_u64(seed);
+        image_rng.set_stream(IMAGE_STREAM);
         Ok(Self {
             world,
             sim,
@@ -257,7 +337,40 @@ impl<'w> SimAgentRobot<'w> {
             scores: WorldScores::new(seed),
             score_images: 0,
             score_seconds: 0.0,
+            image: config.image,
+            image_rng,
+            images: 0,
+            image_seconds: 0.0,
         })
+    }
+
+    /// Number of images taken for [`Robot::attention`] and [`Robot::recognise`] so far (a
+    /// failed view takes none).
+    pub fn images(&self) -> usize {
+        self.images
+    }
+
+    /// Simulated processing time of those images, seconds (each the `seconds` of its report).
+    pub fn image_seconds(&self) -> f64 {
+        self.image_seconds
+    }
+
+    /// The scene of an image taken through `cone` from where the robot stands now.
+    fn image_scene(&self, cone: &ViewCone, camera: &Camera) -> (ViewCone, crate::ImageScene) {
+        let taken = ViewCone {
+            pose: self.pose(),
+            ..*cone
+        };
+        let scene = crate::image::world_scene(
+            self.world,
+            self.sim.walls(),
+            self.detector.knowledge(),
+            camera,
+            &taken,
+            &self.image.geometry,
+            self.image.clutter,
+        );
+        (taken, scene)
     }
 
     /// Which detector the robot's views use.
@@ -587,6 +700,78 @@ impl Robot for SimAgentRobot<'_> {
             travelled,
             scores,
             detector_seconds: profile.processing_seconds,
+        })
+    }
+
+    fn attention(&mut self, cone: &ViewCone, classes: &[String]) -> ActionResult<AttentionReport> {
+        let camera = self.camera();
+        cone.check(&camera)?;
+        if let Some(c) = classes
+            .iter()
+            .find(|c| self.detector.knowledge().class(c).is_none())
+        {
+            return Err(Self::unknown_class(c));
+        }
+        let travelled = self.go_to_view(cone)?;
+        let (taken, scene) = self.image_scene(cone, &camera);
+        let geometry = self.image.geometry;
+        let model = self.image.model;
+        let votes = crate::image::attention(
+            &model,
+            &scene,
+            &camera,
+            &taken,
+            &geometry,
+            classes,
+            &mut self.image_rng,
+        );
+        let seconds = model.attention_seconds(classes.len());
+        self.images += 1;
+        self.image_seconds += seconds;
+        Ok(AttentionReport {
+            pose: taken.pose,
+            travelled,
+            image: geometry,
+            votes,
+            seconds,
+        })
+    }
+
+    fn recognise(&mut self, cone: &ViewCone, class: &str) -> ActionResult<RecognitionReport> {
+        let camera = self.camera();
+        cone.check(&camera)?;
+        let Some(oc) = self.detector.knowledge().class(class) else {
+            return Err(Self::unknown_class(class));
+        };
+        let appearance = ClassAppearance {
+            name: oc.name.clone(),
+            width: oc.size[0],
+            height: oc.size[2],
+        };
+        let travelled = self.go_to_view(cone)?;
+        let (taken, scene) = self.image_scene(cone, &camera);
+        let geometry = self.image.geometry;
+        let model = self.image.model;
+        let seen = crate::image::recognition(
+            &model,
+            &scene,
+            &camera,
+            &taken,
+            &geometry,
+            &appearance,
+            &mut self.image_rng,
+        );
+        let seconds = model.recognition_time();
+        self.images += 1;
+        self.image_seconds += seconds;
+        Ok(RecognitionReport {
+            pose: taken.pose,
+            travelled,
+            image: geometry,
+            class: appearance.name,
+            model_features: seen.model_features,
+            matches: seen.matches,
+            seconds,
         })
     }
 }

@@ -16,3 +16,5 @@ pub mod search;
 pub mod segment;
 pub mod validate;
 pub mod verify;
+pub mod views;
+pub mod zoom_bench;

@@ -2,7 +2,8 @@
 //! explored state the place map (places, paths, door hypotheses, placeholders); and for a search
 //! ([`render_search`]) what the robot did: its trail, every camera look as a view-cone wedge,
 //! false alarms, the start, the end and the reported position, with a title, a legend and a
-//! scale bar.
+//! scale bar; and for a room's view plan ([`render_view_plan`]) the cells to cover, the
+//! standpoints and the planned images.
 //!
 //! Labels (room names, furniture classes) are placed greedily, rooms first, each at the first
 //! of a list of candidate positions where it overlaps no label or mark already placed, and
@@ -28,12 +29,14 @@ use svg::Document;
 mod labels;
 mod legend;
 mod search;
+mod views;
 
 use labels::*;
 use legend::*;
 #[cfg(test)]
 use search::*;
 pub use search::{render_search, Look, LookKind, RoomBelief, SearchOutcome, SearchPicture};
+pub use views::{render_view_plan, PlannedImage, ViewPlanPicture};
 
 /// Pixels per metre of world and exploration pictures.
 const SCALE: f64 = 50.0;
