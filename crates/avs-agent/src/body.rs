@@ -9,7 +9,11 @@ use crate::report::{Activity, PathBreakdown};
 use crate::AgentError;
 use avs_map::nav::shortest_path;
 use avs_map::places::dist;
-use avs_robot::{ActionResult, Camera, PlaceReading, Pose2D, Robot, ViewCone, ViewReport};
+use avs_robot::{
+    ActionFailure, ActionResult, Camera, Detection, FailureReason, PlaceReading, Pose2D, Robot,
+    ViewCone, ViewReport,
+};
+use avs_view::zoom::{three_step_search, ObjectModel, ZoomConfig, ZoomError, ZoomImage};
 use petgraph::graph::NodeIndex;
 
 /// The robot as the agent drives it.
@@ -21,6 +25,24 @@ pub(crate) struct Body<'r, R: Robot + ?Sized> {
     path: PathBreakdown,
     /// Motions in a row the robot refused or aborted without moving, and the last refusal.
     stuck: (usize, String),
+    /// The zoom pipeline, when looks run it: its settings and the models of the classes it
+    /// looks for (the small ones); `None` when off, or once the robot said it has none.
+    zoom: Option<(ZoomConfig, Vec<ObjectModel>)>,
+    /// The zoom pipeline's images since [`Body::take_zoom_images`], for the trace.
+    zoom_log: Vec<ZoomImage>,
+    /// Images processed by looks, those of them the zoom pipeline added, and its seconds.
+    images: (usize, usize, f64),
+}
+
+/// The confidence of a recognition with `matches` of a model's `features` matched: `s / (s +
+/// RECOGNITION_SHARE)` for the matched share `s` — one half at the paper's 5 % threshold
+/// (§3.5), rising towards one with more matches.
+fn recognition_confidence(matches: usize, features: u32) -> f64 {
+    if features == 0 {
+        return 0.0;
+    }
+    let s = matches as f64 / f64::from(features);
+    s / (s + avs_view::zoom::RECOGNITION_SHARE)
 }
 
 /// A failed motion that moved the robot less than this (metres) left it where it stood.
@@ -34,7 +56,29 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
             activity: Activity::default(),
             path: PathBreakdown::default(),
             stuck: (0, String::new()),
+            zoom: None,
+            zoom_log: Vec::new(),
+            images: (0, 0, 0.0),
         }
+    }
+
+    /// Looks run the zoom pipeline for `models`' classes (the others go to the one-shot
+    /// detector).
+    pub fn with_zoom(mut self, config: ZoomConfig, models: Vec<ObjectModel>) -> Self {
+        self.zoom = Some((config, models));
+        self
+    }
+
+    /// The zoom pipeline's images since the last call (the first image of each look is the
+    /// look itself and is not among them).
+    pub fn take_zoom_images(&mut self) -> Vec<ZoomImage> {
+        std::mem::take(&mut self.zoom_log)
+    }
+
+    /// Images processed by looks, those of them the zoom pipeline added, and the pipeline's
+    /// processing seconds.
+    pub fn images(&self) -> (usize, usize, f64) {
+        self.images
     }
 
     /// Run `f` with its motions booked to `activity` (the one before is restored after).
@@ -118,9 +162,74 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
     /// for `classes`.
     pub fn look(&mut self, cone: &ViewCone, classes: &[String]) -> ActionResult<ViewReport> {
         let before = self.robot.odometry();
-        let r = self.robot.process_view_cone(cone, classes);
+        let r = self.look_with_zoom(cone, classes);
         self.book(before);
         r
+    }
+
+    /// [`Body::look`] without the booking: the zoom pipeline for the classes it has models of
+    /// (Sjöö et al. `004` §3), the one-shot detector for the rest; a robot without the
+    /// pipeline's images (`Unsupported`) gets the one-shot detector from then on.
+    fn look_with_zoom(&mut self, cone: &ViewCone, classes: &[String]) -> ActionResult<ViewReport> {
+        let Some((config, models)) = &self.zoom else {
+            self.images.0 += 1;
+            return self.robot.process_view_cone(cone, classes);
+        };
+        let (zoomed, rest): (Vec<&String>, Vec<&String>) = classes
+            .iter()
+            .partition(|c| models.iter().any(|m| &m.class == *c));
+        if zoomed.is_empty() {
+            self.images.0 += 1;
+            return self.robot.process_view_cone(cone, classes);
+        }
+        let wanted: Vec<ObjectModel> = models
+            .iter()
+            .filter(|m| zoomed.contains(&&m.class))
+            .cloned()
+            .collect();
+        let config = *config;
+        let outcome = match three_step_search(self.robot, cone, &wanted, &config) {
+            Ok(o) => o,
+            Err(ZoomError::Unsupported { message, .. }) => {
+                tracing::info!(%message, "the robot has no zoom pipeline: one-shot detector from now on");
+                self.zoom = None;
+                self.images.0 += 1;
+                return self.robot.process_view_cone(cone, classes);
+            }
+            Err(ZoomError::Robot(f)) => return Err(f),
+            Err(e) => {
+                return Err(ActionFailure::new(
+                    FailureReason::ExecutionFailed,
+                    format!("zoom pipeline: {e}"),
+                ))
+            }
+        };
+        self.images.0 += outcome.images.len();
+        self.images.1 += outcome.images.len().saturating_sub(1);
+        self.images.2 += outcome.seconds;
+        self.zoom_log.extend(outcome.images.iter().skip(1).cloned());
+        let mut detections: Vec<Detection> = outcome
+            .found
+            .iter()
+            .map(|r| Detection {
+                class: r.class.clone(),
+                pose: r.position,
+                confidence: recognition_confidence(r.matches, r.model_features),
+            })
+            .collect();
+        let mut travelled = outcome.travelled;
+        if !rest.is_empty() {
+            let rest: Vec<String> = rest.into_iter().cloned().collect();
+            self.images.0 += 1;
+            let other = self.robot.process_view_cone(cone, &rest)?;
+            detections.extend(other.detections);
+            travelled += other.travelled;
+        }
+        Ok(ViewReport {
+            pose: self.robot.pose(),
+            detections,
+            travelled,
+        })
     }
 
     /// Point the camera along `cone` (moving to its pose first if needed) and read the

@@ -57,6 +57,12 @@ pub struct AgentConfig {
     /// Seed of the verification planners' sampled look sequences (combined with the
     /// candidate's number in the search, so the same seed gives the same trace).
     pub verifier_seed: u64,
+    /// Whether every look for small objects runs the zoom pipeline (Sjöö et al. `004` §3:
+    /// attention, zoom windows, the three-step search, recognition) on robots that have it;
+    /// `false` asks the robot's one-shot detector ([`avs_robot::Robot::process_view_cone`]).
+    pub zoom_pipeline: bool,
+    /// The zoom pipeline's settings (image geometry, image budget per look, the paper's factors).
+    pub zoom: avs_view::zoom::ZoomConfig,
     /// The executive's constants (geometry of looking, verification, exploration).
     pub tuning: Tuning,
 }
@@ -188,6 +194,8 @@ impl Default for AgentConfig {
             strategy: Strategy::Planner,
             cover_before_giving_up: true,
             verifier_seed: 0,
+            zoom_pipeline: false,
+            zoom: avs_view::zoom::ZoomConfig::default(),
             tuning: Tuning::default(),
         }
     }

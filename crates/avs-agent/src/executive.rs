@@ -126,6 +126,18 @@ impl Agent {
             });
         }
         let mut body = Body::new(robot);
+        if self.config.zoom_pipeline {
+            // The small objects go through the zoom pipeline; furniture fills an unzoomed
+            // image and stays with the one-shot detector.
+            let models = self
+                .knowledge
+                .object_classes
+                .iter()
+                .filter(|c| !c.landmark)
+                .map(avs_view::zoom::ObjectModel::from_class)
+                .collect();
+            body = body.with_zoom(self.config.zoom, models);
+        }
         let start_odo = body.odometry();
         let mut run = Run::new(sink, self.config.tuning.cover_key_resolution);
         run.emit(Event::Started {
@@ -188,6 +200,12 @@ impl Agent {
         };
         run.metrics.path_length = body.odometry() - start_odo;
         run.metrics.path_by_activity = body.path_by_activity();
+        run.zoomed(body.take_zoom_images());
+        (
+            run.metrics.images,
+            run.metrics.zoom_images,
+            run.metrics.image_s,
+        ) = body.images();
         Ok(SearchReport {
             found,
             reason,

@@ -121,6 +121,14 @@ pub struct Metrics {
     /// The detector's processing time of the verifiers' score images, seconds, as the robot
     /// reports it (`ScoreReport::detector_seconds`).
     pub verification_detector_s: f64,
+    /// Camera images processed by looks (one per one-shot detector call; every attention and
+    /// recognition image of the zoom pipeline).
+    pub images: usize,
+    /// Of `images`, those the zoom pipeline took after a look's first image (middle and final
+    /// steps, recognitions).
+    pub zoom_images: usize,
+    /// Processing time of the zoom pipeline's images as the robot reports it, seconds.
+    pub image_s: f64,
 }
 
 /// What a search returned.

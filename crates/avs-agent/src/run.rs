@@ -65,6 +65,21 @@ impl<'s> Run<'s> {
         }
     }
 
+    /// Trace the zoom pipeline's images of the last look ([`Body::take_zoom_images`]), one
+    /// `ZOOM` line each.
+    pub fn zoomed(&mut self, images: Vec<avs_view::zoom::ZoomImage>) {
+        for im in images {
+            self.emit(Event::Zoom {
+                classes: im.classes,
+                zoom: im.cone.zoom,
+                pan_deg: im.cone.pan.to_degrees(),
+                tilt_deg: im.cone.tilt.to_degrees(),
+                step: format!("{:?}", im.step).to_lowercase(),
+                kind: format!("{:?}", im.kind).to_lowercase(),
+            });
+        }
+    }
+
     /// Record and hand on one trace event; logged at `info` for the milestones (a plan, a
     /// violated assumption, a door seen closed or opening, the verdict), at `debug` otherwise.
     pub fn emit(&mut self, e: Event) {

@@ -265,6 +265,22 @@ pub enum Event {
         /// Why, in words.
         reason: String,
     },
+    /// The zoom pipeline took an image after a look's first one (Sjöö et al. `004` §3.1: a
+    /// middle-step window, a final zoom, a recognition).
+    Zoom {
+        /// The classes the image was for.
+        classes: Vec<String>,
+        /// Zoom factor.
+        zoom: f64,
+        /// Pan relative to the robot's heading, degrees.
+        pan_deg: f64,
+        /// Tilt, degrees.
+        tilt_deg: f64,
+        /// The step of the three-step search: `initial`, `middle` or `final`.
+        step: String,
+        /// `attention` (vote matrices) or `recognition` (matched features).
+        kind: String,
+    },
     /// The robot saw a door closed for the first time, or saw a known door open or close
     /// ([`avs_robot::MapUpdate::doors`]; doors first seen open are not news).
     DoorSeen {
@@ -413,6 +429,17 @@ impl Event {
                 "  ? verification decision: {class} at {} {} ({reason}; {looks} looks, detour {detour_m:.1} m)\n",
                 xy(at),
                 if *accepted { "accepted" } else { "rejected" }
+            ),
+            Event::Zoom {
+                classes,
+                zoom,
+                pan_deg,
+                tilt_deg,
+                step,
+                kind,
+            } => format!(
+                "        ZOOM {} x{zoom:.1} at {pan_deg:.1},{tilt_deg:.1} ({step} {kind})\n",
+                classes.join(",")
             ),
             Event::DoorSeen { door, at, open } => {
                 let state = if *open { "open" } else { "closed" };

@@ -43,6 +43,8 @@ pub struct BenchParams {
     pub lookalikes_per_room: f64,
     /// The simulated robot's detector.
     pub detector: avs_sim::sim_robot::DetectorKind,
+    /// Whether the agent's looks run the zoom pipeline ([`AgentConfig::zoom_pipeline`]).
+    pub zoom_pipeline: bool,
 }
 
 /// One floor's run.
@@ -87,6 +89,10 @@ pub struct BenchResult {
     pub room_revisits_mean: f64,
     /// Mean number of plans over the reachable floors.
     pub plans_mean: f64,
+    /// Mean camera images processed per search (reachable floors).
+    pub images_mean: f64,
+    /// Mean zoom-pipeline images after a look's first, per search (reachable floors).
+    pub zoom_images_mean: f64,
     /// Median planning time over every plan of every run, ms.
     pub plan_ms_median: f64,
     /// The longest search's wall-clock seconds (see [`crate::episode::Summary::compute_s`]).
@@ -149,6 +155,7 @@ pub fn bench(
     let targets = goal_classes(knowledge, p.goal.as_deref())?;
     let config = AgentConfig {
         strategy: p.strategy,
+        zoom_pipeline: p.zoom_pipeline,
         ..AgentConfig::default()
     };
     let mut runs: Vec<BenchRun> = (0..p.floors as u64)
@@ -205,6 +212,8 @@ pub fn bench(
         },
         room_revisits_mean: mean(&ok, |r| r.summary.room_revisits as f64),
         plans_mean: mean(&ok, |r| r.summary.plans as f64),
+        images_mean: mean(&ok, |r| r.summary.images as f64),
+        zoom_images_mean: mean(&ok, |r| r.summary.zoom_images as f64),
         plan_ms_median: median(&plan_ms),
         compute_s_max: runs.iter().map(|r| r.summary.compute_s).fold(0.0, f64::max),
         seed: p.seed,

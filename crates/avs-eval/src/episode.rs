@@ -88,6 +88,11 @@ pub struct Summary {
     pub verification_looks: usize,
     /// The detector's processing time of those looks' images, seconds.
     pub verification_detector_s: f64,
+    /// Camera images the looks processed (one per one-shot detection; every image of the zoom
+    /// pipeline).
+    pub images: usize,
+    /// Of those, the zoom pipeline's images after a look's first (middle, final, recognition).
+    pub zoom_images: usize,
     /// Median planning time, ms.
     pub plan_ms_median: f64,
     /// Median time per DT decision, ms.
@@ -231,6 +236,8 @@ pub fn run_episode(
         candidates_rejected: report.metrics.candidates_rejected,
         verification_looks: report.metrics.verification_looks,
         verification_detector_s: report.metrics.verification_detector_s,
+        images: report.metrics.images,
+        zoom_images: report.metrics.zoom_images,
         plan_ms_median: median(&report.metrics.plan_ms),
         dt_ms_median: median(&report.metrics.dt_ms),
         compute_s,

@@ -326,6 +326,7 @@ pub fn fault_matrix(
         place_classifier: false,
         lookalikes_per_room: avs_sim::generate::DEFAULT_LOOKALIKES_PER_ROOM,
         detector: Default::default(),
+        zoom_pipeline: false,
     };
     let floors: Vec<(u64, String, World)> = (0..p.floors as u64)
         .into_par_iter()

@@ -204,6 +204,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                         }),
                         target: None,
                     });
+                    run.zoomed(body.take_zoom_images());
                     steps += 1;
                     if session.observe(detected).is_err() {
                         break;

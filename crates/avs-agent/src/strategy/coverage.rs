@@ -428,6 +428,7 @@ fn process_views<R: Robot + ?Sized>(
         } else {
             None
         };
+        run.zoomed(body.take_zoom_images());
         let confirmed = match first {
             Some(d) => body.with_activity(Activity::Verification, |b| {
                 verify(cx, mem, b, run, label, &d)

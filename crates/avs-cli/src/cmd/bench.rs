@@ -57,6 +57,10 @@ pub struct Args {
     /// The simulated robot's object detector.
     #[arg(long, value_enum, default_value_t = DetectorArg::default())]
     pub detector: DetectorArg,
+    /// Looks run the zoom pipeline (attention, zoom windows, three-step search, recognition)
+    /// instead of the one-shot detector.
+    #[arg(long)]
+    pub zoom: bool,
     /// Search this class on every floor (default: drawn per floor).
     #[arg(long)]
     pub goal: Option<String>,
@@ -108,6 +112,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         place_classifier: a.place_classifier,
         lookalikes_per_room: a.lookalikes,
         detector: a.detector.into(),
+        zoom_pipeline: a.zoom,
     };
     let r = bench(&knowledge, &domain, &params, &tick)?;
     bar.finish();
@@ -135,6 +140,10 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         );
         println!("  room_revisits_mean {:.1}", r.room_revisits_mean);
         println!("  plans_mean        {:.1}", r.plans_mean);
+        println!(
+            "  images_mean       {:.1} ({:.1} by the zoom pipeline)",
+            r.images_mean, r.zoom_images_mean
+        );
         println!("  plan_ms_median    {:.2} ms", r.plan_ms_median);
         println!("  compute_s_max     {:.1} s", r.compute_s_max);
         for run in r.runs.iter().filter(|r| r.reachable && !r.summary.found) {

@@ -33,6 +33,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         goal: "cerealbox",
         seed: 1,
         strategy: Default::default(),
+        zoom_pipeline: avs_agent::AgentConfig::default().zoom_pipeline,
         faults: Default::default(),
         edits: Default::default(),
         before: &[],

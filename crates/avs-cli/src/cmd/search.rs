@@ -87,6 +87,10 @@ pub struct Args {
     /// The simulated robot's object detector.
     #[arg(long, value_enum, default_value_t = DetectorArg::default())]
     pub detector: DetectorArg,
+    /// Looks run the zoom pipeline (attention, zoom windows, three-step search, recognition)
+    /// instead of the one-shot detector; the trace shows each zoomed image (`ZOOM …`).
+    #[arg(long)]
+    pub zoom: bool,
 }
 
 /// The simulated robot's object detector (`--detector`).
@@ -187,6 +191,8 @@ pub struct Request<'a> {
     pub seed: u64,
     /// Strategy.
     pub strategy: Strategy,
+    /// Looks run the zoom pipeline.
+    pub zoom_pipeline: bool,
     /// Fault injection.
     pub faults: Faults,
     /// World edits before the search.
@@ -288,6 +294,7 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
         config: AgentConfig {
             strategy: r.strategy,
             cover_before_giving_up: r.cover_before_giving_up,
+            zoom_pipeline: r.zoom_pipeline,
             ..AgentConfig::default()
         },
         faults: r.faults.clone(),
@@ -500,6 +507,7 @@ fn search(a: Args) -> anyhow::Result<bool> {
         goal: &a.goal,
         seed: a.seed,
         strategy: a.strategy,
+        zoom_pipeline: a.zoom,
         faults: Faults {
             detector: a.detector.into(),
             failure_rate: a.failure_rate,
@@ -581,6 +589,11 @@ pub fn summary_text(s: &Summary) -> String {
         s.verification_looks,
         s.verification_detector_s
     );
+    let _ = writeln!(
+        out,
+        "  images:               {} ({} by the zoom pipeline)",
+        s.images, s.zoom_images
+    );
     if let Some(d) = s.distance_to_goal {
         let _ = writeln!(out, "  distance to goal:     {d:.1} m at the end");
     }
@@ -620,6 +633,8 @@ mod tests {
             candidates_rejected: usize::from(!(found || wrong_report)),
             verification_looks: 2,
             verification_detector_s: 2.0,
+            images: 40,
+            zoom_images: 0,
             plan_ms_median: 1.0,
             dt_ms_median: 0.1,
             compute_s: 0.1,

@@ -245,8 +245,8 @@ pub struct ZoomOutcome {
 ///
 /// Errors: bad input (configuration, camera, cone, models), a robot without attention or
 /// recogniser ([`ZoomError::Unsupported`]), a failed or malformed initial image.
-pub fn three_step_search(
-    robot: &mut dyn Robot,
+pub fn three_step_search<R: Robot + ?Sized>(
+    robot: &mut R,
     cone: &ViewCone,
     models: &[ObjectModel],
     config: &ZoomConfig,
@@ -398,15 +398,15 @@ enum Shot<T> {
 }
 
 /// One search in progress.
-struct Search<'r> {
-    robot: &'r mut dyn Robot,
+struct Search<'r, R: Robot + ?Sized> {
+    robot: &'r mut R,
     camera: Camera,
     config: ZoomConfig,
     models: Vec<ObjectModel>,
     out: ZoomOutcome,
 }
 
-impl Search<'_> {
+impl<R: Robot + ?Sized> Search<'_, R> {
     fn model(&self, class: &str) -> Option<ObjectModel> {
         self.models.iter().find(|m| m.class == class).cloned()
     }

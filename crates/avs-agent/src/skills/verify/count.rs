@@ -139,6 +139,7 @@ pub(crate) fn count_rule<R: Robot + ?Sized>(
             }),
             target: Some([target[0], target[1]]),
         });
+        run.zoomed(body.take_zoom_images());
         if let Some(e) = seen {
             hits += 1;
             if confirmed

@@ -1,0 +1,108 @@
+//! The search agent's looks through the zoom pipeline (Sjöö et al. `004` §3): on the simulated
+//! robot, whose camera gives vote matrices and feature matches, every zoomed image is a trace
+//! line and the images are counted; a robot without the pipeline's images gets the one-shot
+//! detector instead, and finds the same object.
+
+use avs_agent::{
+    Agent, AgentConfig, Camera, Detection, Event, Goal, Point3, Pose2D, ScriptedRobot,
+};
+use avs_format::knowledge::Knowledge;
+use avs_map::grid::OccupancyGrid;
+use avs_plan::domain::Domain;
+use avs_sim::score::SUCCESS_RADIUS;
+use avs_sim::sim_robot::{SimAgentRobot, SimRobotConfig};
+use avs_sim::World;
+use std::path::{Path, PathBuf};
+
+fn shipped(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(rel)
+}
+
+fn inputs() -> (Knowledge, Domain) {
+    (
+        avs_format::load_yaml(&shipped("knowledge/office.yaml")).unwrap(),
+        Domain::load(&shipped("domains/object_search.yaml")).unwrap(),
+    )
+}
+
+fn zoomed() -> AgentConfig {
+    AgentConfig {
+        zoom_pipeline: true,
+        ..AgentConfig::default()
+    }
+}
+
+#[test]
+fn zoomed_looks_find_the_office_objects_and_every_zoomed_image_is_traced_and_counted() {
+    let world = World::load(&shipped("domains/environments/office.yaml")).unwrap();
+    let (k, d) = inputs();
+    for (goal, seed) in [("cerealbox", 1), ("stapler", 2), ("mug", 3)] {
+        let mut robot =
+            SimAgentRobot::new(&world, k.clone(), SimRobotConfig::default(), seed).unwrap();
+        let mut agent = Agent::new(d.clone(), k.clone(), zoomed()).unwrap();
+        let r = agent.search(&mut robot, Goal::find(goal)).unwrap();
+        let text = avs_agent::trace::render_text(&r.trace);
+        let found = r
+            .found
+            .as_ref()
+            .unwrap_or_else(|| panic!("{goal}: not found\n{text}"));
+        let near = world
+            .objects_of_class(goal)
+            .any(|o| (o.pose.x - found.pose.x).hypot(o.pose.y - found.pose.y) <= SUCCESS_RADIUS);
+        assert!(near, "{goal}: wrong report {found:?}");
+        let zooms: Vec<&Event> = r
+            .trace
+            .iter()
+            .filter(|e| matches!(e, Event::Zoom { .. }))
+            .collect();
+        assert_eq!(zooms.len(), r.metrics.zoom_images, "{goal}");
+        assert!(r.metrics.zoom_images > 0, "{goal}: no zoomed image");
+        assert!(r.metrics.images > r.metrics.zoom_images);
+        assert!(r.metrics.image_s > 0.0);
+        assert!(text.contains(&format!("ZOOM {goal} x")), "{goal}");
+        // Zoomed images are for the goal, within the camera's zoom.
+        let max_zoom = robot_max_zoom(&world);
+        assert!(zooms.iter().all(|e| matches!(e,
+            Event::Zoom { classes, zoom, .. }
+                if classes.iter().any(|c| c == goal) && *zoom >= 1.0 && *zoom <= max_zoom + 1e-9)));
+    }
+}
+
+fn robot_max_zoom(world: &World) -> f64 {
+    Camera::from(&world.env.camera).max_zoom
+}
+
+#[test]
+fn a_robot_without_the_pipelines_images_gets_the_one_shot_detector_and_the_same_find() {
+    // The agent crate's own example: a room the laser knows whole, a cereal box in a corner.
+    let mut map = String::from("##########\n");
+    for _ in 0..6 {
+        map.push_str("#........#\n");
+    }
+    map.push_str("##########");
+    let (k, d) = inputs();
+    let run = |config: AgentConfig| {
+        let grid = OccupancyGrid::from_ascii(&map, 0.5, [0.0, 0.0]).unwrap();
+        let mut robot = ScriptedRobot::new(grid, Pose2D::new(1.25, 1.25, 0.0), Camera::default());
+        robot.place(Detection {
+            class: "cerealbox".into(),
+            pose: Point3 {
+                x: 3.6,
+                y: 2.6,
+                z: 0.14,
+            },
+            confidence: 0.8,
+        });
+        let mut agent = Agent::new(d.clone(), k.clone(), config).unwrap();
+        agent.search(&mut robot, Goal::find("cerealbox")).unwrap()
+    };
+    let plain = run(AgentConfig::default());
+    let zoom = run(zoomed());
+    assert_eq!(zoom.metrics.zoom_images, 0);
+    assert!(!zoom.trace.iter().any(|e| matches!(e, Event::Zoom { .. })));
+    assert_eq!(plain.found, zoom.found);
+    assert_eq!(plain.metrics.images, zoom.metrics.images);
+    assert!(zoom.found.is_some());
+}
