@@ -63,6 +63,11 @@ pub struct AgentConfig {
     pub zoom_pipeline: bool,
     /// The zoom pipeline's settings (image geometry, image budget per look, the paper's factors).
     pub zoom: avs_view::zoom::ZoomConfig,
+    /// What the robot's looks measurably do per class (e.g. the zoom pipeline, calibrated on
+    /// the simulator's images): a class listed here is looked for within its measured range,
+    /// and its view-cone sessions use its measured miss and false-alarm rates instead of the
+    /// knowledge's `detection_range` and `sensor`. Empty: the knowledge's.
+    pub measured_sensing: Vec<MeasuredSensing>,
     /// The executive's constants (geometry of looking, verification, exploration).
     pub tuning: Tuning,
 }
@@ -196,6 +201,7 @@ impl Default for AgentConfig {
             verifier_seed: 0,
             zoom_pipeline: false,
             zoom: avs_view::zoom::ZoomConfig::default(),
+            measured_sensing: Vec::new(),
             tuning: Tuning::default(),
         }
     }
@@ -599,5 +605,26 @@ mod tests {
             assert_eq!(s.to_string().parse::<Strategy>(), Ok(s));
         }
         assert!("random".parse::<Strategy>().is_err());
+    }
+}
+
+/// One class's sensing as measured (see [`AgentConfig::measured_sensing`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct MeasuredSensing {
+    /// The object class.
+    pub class: String,
+    /// The distances `[min, max]` (metres, zoom 1) at which one look finds the object at
+    /// least half the time.
+    pub detection_range: [f64; 2],
+    /// P(a look misses the object | it is in view within the range).
+    pub false_negative: f64,
+    /// P(a look reports the class | nothing of it is in view).
+    pub false_positive: f64,
+}
+
+impl AgentConfig {
+    /// The measured sensing of `class`, when there is one.
+    pub fn sensing(&self, class: &str) -> Option<&MeasuredSensing> {
+        self.measured_sensing.iter().find(|m| m.class == class)
     }
 }

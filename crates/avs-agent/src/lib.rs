@@ -288,7 +288,7 @@ mod strategy;
 pub mod trace;
 pub mod world_model;
 
-pub use config::{AgentConfig, Strategy, Tuning};
+pub use config::{AgentConfig, MeasuredSensing, Strategy, Tuning};
 pub use error::AgentError;
 pub use executive::Agent;
 pub use reason::{FailedActions, GiveUpReason, Hindrances, MoveFailure, ReplanReason};

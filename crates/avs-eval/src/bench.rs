@@ -153,11 +153,20 @@ pub fn bench(
     tick: &(dyn Fn() + Sync),
 ) -> Result<BenchResult, EvalError> {
     let targets = goal_classes(knowledge, p.goal.as_deref())?;
-    let config = AgentConfig {
+    let mut config = AgentConfig {
         strategy: p.strategy,
         zoom_pipeline: p.zoom_pipeline,
         ..AgentConfig::default()
     };
+    if p.zoom_pipeline {
+        // The pipeline's ranges and rates, measured once on the simulated camera (every
+        // generated floor has the default camera).
+        config.measured_sensing = crate::zoom_sensing::measured_sensing(
+            knowledge,
+            &avs_robot::Camera::default(),
+            &config.zoom,
+        )?;
+    }
     let mut runs: Vec<BenchRun> = (0..p.floors as u64)
         .into_par_iter()
         .map(|i| -> Result<BenchRun, EvalError> {

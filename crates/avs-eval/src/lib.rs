@@ -17,7 +17,9 @@
 //! * [`verification`] — the detection-verification harness and bench (`avs verify-bench`);
 //! * [`views`] — a room's view plan for several classes (`avs views`);
 //! * [`zoom_calibration`] — the calibration bench of the simulated camera image against Sjöö et
-//!   al.'s Figs. 7–10 (`avs zoom-bench`).
+//!   al.'s Figs. 7–10 (`avs zoom-bench`);
+//! * [`zoom_sensing`] — the zoom pipeline's detection range, miss and false-alarm rates per
+//!   class, measured on the simulated camera for an agent that runs it.
 //!
 //! The `avs` CLI's `run`, `search` and `bench` are thin layers over this crate.
 //!
@@ -55,5 +57,6 @@ pub mod stats;
 pub mod verification;
 pub mod views;
 pub mod zoom_calibration;
+pub mod zoom_sensing;
 
 pub use error::EvalError;

@@ -96,7 +96,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
         // sent the robot to the same session again until its plan budget ran out.
         // Within them, a point already looked at `n` times in vain holds the object with
         // weight (1 − p_d)^n (Bayes over independent looks; 1 for a point never looked at).
-        let miss = cx.knowledge.sensor.false_negative;
+        let (miss, false_alarm) = sensing(cx, label);
         let mut weights = vec![0.0; set.n_points];
         for &i in set.cells.iter().flatten() {
             if let Some(w) = weights.get_mut(i) {
@@ -107,7 +107,6 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
         let positions: Vec<[f64; 2]> = set.views.iter().map(|v| [v.pose[0], v.pose[1]]).collect();
         let (from_start, travel) =
             euclidean_travel(body.at(), &positions, cx.config.travel_cost_per_m);
-        let sensor = &cx.knowledge.sensor;
         let session = prior.and_then(|cone_prior| {
             ViewConeSession::new(
                 &ViewConeProblem {
@@ -115,8 +114,8 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                     travel_from_start: from_start,
                     travel,
                     process_cost: cx.config.process_cost,
-                    false_negative: sensor.false_negative,
-                    false_positive: sensor.false_positive,
+                    false_negative: miss,
+                    false_positive: false_alarm,
                     rewards: cx.config.session_rewards,
                     discount: cx.config.session_discount,
                 },
@@ -377,6 +376,19 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
     }
 }
 
+/// A look's miss and false-alarm rates for `label`: measured
+/// ([`crate::AgentConfig::measured_sensing`]) when the configuration has them, the knowledge's
+/// `sensor` otherwise.
+fn sensing(cx: Ctx, label: &str) -> (f64, f64) {
+    cx.config.sensing(label).map_or(
+        (
+            cx.knowledge.sensor.false_negative,
+            cx.knowledge.sensor.false_positive,
+        ),
+        |m| (m.false_negative, m.false_positive),
+    )
+}
+
 /// Record one look at every point of the processed cones (`processed`; a point once per
 /// session however many of them held it) in [`Memory::looks`], and return the share `q` of
 /// the location's rate the looks removed: with every point of the location weighted
@@ -395,7 +407,7 @@ fn record_looks(
     set: &ConeSet,
     processed: &[usize],
 ) -> f64 {
-    let miss = cx.knowledge.sensor.false_negative;
+    let (miss, _) = sensing(cx, label);
     let Some(class) = cx.knowledge.class(label) else {
         return 0.0;
     };

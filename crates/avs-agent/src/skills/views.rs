@@ -117,6 +117,15 @@ pub(crate) fn interior_levels(h: f64, object_h: f64) -> Vec<f64> {
 /// coverage before giving up also looks at the floor, where a small object is beyond its
 /// unzoomed range wherever the camera's tilt limit lets it look, and plans with
 /// [`view_zooms`](avs_view::view_zooms).
+/// The distances at which a look detects `class` at zoom 1: measured
+/// ([`crate::AgentConfig::measured_sensing`]) when the configuration has it, the knowledge's
+/// `detection_range` otherwise.
+fn detection_range(cx: Ctx, class: &avs_format::knowledge::ObjectClass) -> [f64; 2] {
+    cx.config
+        .sensing(&class.name)
+        .map_or(class.detection_range, |m| m.detection_range)
+}
+
 pub(crate) fn plan_cones(
     cx: Ctx,
     mem: &Memory,
@@ -147,7 +156,7 @@ pub(crate) fn plan_cones(
             let home = mem.room_around([o.pos.x, o.pos.y], half + 0.5);
             (
                 Some([o.pos.x, o.pos.y]),
-                class.detection_range[1] + 0.5,
+                detection_range(cx, class)[1] + 0.5,
                 home,
             )
         }
@@ -181,7 +190,7 @@ pub(crate) fn plan_cones(
     };
     // Likewise only the nearer part of the detection range: at its far end the detector
     // misses most of the time.
-    let [near, far] = class.detection_range;
+    let [near, far] = detection_range(cx, class);
     let range = DetectionRange {
         min: near,
         max: near + t.cover_range_share * (far - near),

@@ -286,17 +286,26 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
                 .join(", ")
         );
     }
+    let mut config = AgentConfig {
+        strategy: r.strategy,
+        cover_before_giving_up: r.cover_before_giving_up,
+        zoom_pipeline: r.zoom_pipeline,
+        ..AgentConfig::default()
+    };
+    if r.zoom_pipeline {
+        // The pipeline's ranges and rates, measured on this world's simulated camera.
+        config.measured_sensing = avs_eval::zoom_sensing::measured_sensing(
+            &k,
+            &avs_agent::Camera::from(&world.env.camera),
+            &config.zoom,
+        )?;
+    }
     let spec = EpisodeSpec {
         knowledge: &k,
         domain: &d,
         goal,
         seed,
-        config: AgentConfig {
-            strategy: r.strategy,
-            cover_before_giving_up: r.cover_before_giving_up,
-            zoom_pipeline: r.zoom_pipeline,
-            ..AgentConfig::default()
-        },
+        config,
         faults: r.faults.clone(),
         before: r.before,
         place_classifier: r.place_classifier,

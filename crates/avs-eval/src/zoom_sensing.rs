@@ -1,0 +1,308 @@
+//! The zoom pipeline's sensing measured, not assumed (issue 21): per class, how often one look
+//! — the three-step search (`avs_view::zoom::three_step_search`) from an unzoomed image —
+//! recognises the object at each distance in front of the simulated camera, and how often it
+//! recognises the class where nothing of it is. The agent then plans its views within the
+//! distances where a look finds the object at least half the time and runs its view-cone
+//! sessions with the measured miss and false-alarm rates ([`avs_agent::MeasuredSensing`]),
+//! instead of the knowledge's hand-set `detection_range` and `sensor`.
+//!
+//! ## Protocol
+//! For each non-landmark class of the knowledge: the object's front face (`size[0] × size[2]`)
+//! at distances 0.25, 0.5, … 6 m along the optical axis, at the camera's height, facing it
+//! within ±30°, off the axis by up to a quarter of the half field, against an office
+//! background (clutter 1) 0.5–2 m behind it; `looks` looks per distance. A look finds the
+//! object when it recognises the class within [`FOUND_WITHIN`] of the face's centre. The
+//! range is the run of distances around the best one where the share found is at least ½;
+//! the miss rate is one minus the mean share found over it. False alarms: `looks` looks per
+//! class at empty scenes (a background 1–6 m away), the share that recognised the class.
+//! A class whose looks never reach ½ keeps the knowledge's sensing (it is left out).
+
+use avs_agent::MeasuredSensing;
+use avs_format::knowledge::Knowledge;
+use avs_map::grid::OccupancyGrid;
+use avs_robot::{
+    ActionFailure, ActionResult, AttentionReport, Camera, FailureReason, ImageGeometry, MapUpdate,
+    MoveReport, Point3, Pose2D, RecognitionReport, Robot, ViewCone, ViewReport,
+};
+use avs_sim::image::{attention, recognition, Background, ClassAppearance, SceneObject};
+use avs_sim::{ImageModel, ImageScene};
+use avs_view::zoom::{three_step_search, ObjectModel, ZoomConfig};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// A look found the object when it recognised the class within this of the face's centre,
+/// metres.
+pub const FOUND_WITHIN: f64 = 0.3;
+
+/// The distances looked from, metres.
+fn distances() -> Vec<f64> {
+    (1..=24).map(|i| 0.25 * f64::from(i)).collect()
+}
+
+/// A robot standing at the origin facing +x in front of one fixed scene: its images are the
+/// simulator's ([`avs_sim::image`]); it never moves.
+struct SceneRobot<'a> {
+    scene: ImageScene,
+    /// A one-cell map: the pipeline never asks for one.
+    grid: &'a OccupancyGrid,
+    camera: Camera,
+    image: ImageGeometry,
+    model: &'a ImageModel,
+    appearances: &'a [ClassAppearance],
+    rng: ChaCha8Rng,
+}
+
+impl Robot for SceneRobot<'_> {
+    fn pose(&self) -> Pose2D {
+        Pose2D::new(0.0, 0.0, 0.0)
+    }
+
+    fn camera(&self) -> Camera {
+        self.camera
+    }
+
+    fn odometry(&self) -> f64 {
+        0.0
+    }
+
+    fn move_to(&mut self, _goal: Pose2D) -> ActionResult<MoveReport> {
+        Ok(MoveReport {
+            pose: self.pose(),
+            travelled: 0.0,
+        })
+    }
+
+    fn map_update(&mut self) -> MapUpdate {
+        MapUpdate {
+            grid: self.grid.clone(),
+            newly_known: 0,
+            doors: Vec::new(),
+        }
+    }
+
+    fn process_view_cone(
+        &mut self,
+        _cone: &ViewCone,
+        _classes: &[String],
+    ) -> ActionResult<ViewReport> {
+        Err(ActionFailure::new(
+            FailureReason::Unsupported,
+            "the calibration robot only takes zoom-pipeline images",
+        ))
+    }
+
+    fn attention(&mut self, cone: &ViewCone, classes: &[String]) -> ActionResult<AttentionReport> {
+        let votes = attention(
+            self.model,
+            &self.scene,
+            &self.camera,
+            cone,
+            &self.image,
+            classes,
+            &mut self.rng,
+        );
+        Ok(AttentionReport {
+            pose: self.pose(),
+            travelled: 0.0,
+            image: self.image,
+            votes,
+            seconds: 0.0,
+        })
+    }
+
+    fn recognise(&mut self, cone: &ViewCone, class: &str) -> ActionResult<RecognitionReport> {
+        let Some(appearance) = self.appearances.iter().find(|a| a.name == class) else {
+            return Err(ActionFailure::new(
+                FailureReason::InvalidRequest,
+                format!("unknown class `{class}`"),
+            ));
+        };
+        let seen = recognition(
+            self.model,
+            &self.scene,
+            &self.camera,
+            cone,
+            &self.image,
+            appearance,
+            &mut self.rng,
+        );
+        Ok(RecognitionReport {
+            pose: self.pose(),
+            travelled: 0.0,
+            image: self.image,
+            class: class.to_string(),
+            model_features: seen.model_features,
+            matches: seen.matches,
+            seconds: 0.0,
+        })
+    }
+}
+
+/// One class's measurement: the share of looks that found the object at each distance of
+/// [`distances`], and the sensing derived from it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ClassMeasurement {
+    /// The class.
+    pub class: String,
+    /// The distances looked from, metres.
+    pub distances: Vec<f64>,
+    /// The share of looks that found the object, per distance.
+    pub found: Vec<f64>,
+    /// The share of looks at empty scenes that recognised the class.
+    pub false_alarms: f64,
+    /// The sensing derived (module docs); `None` when no distance reaches ½.
+    pub sensing: Option<MeasuredSensing>,
+}
+
+/// Measure every non-landmark class of `knowledge` with `camera`, the simulator's image
+/// `model` and the pipeline's `config` (module docs), `looks` looks per distance, seeded.
+pub fn measure(
+    knowledge: &Knowledge,
+    camera: &Camera,
+    model: &ImageModel,
+    config: &ZoomConfig,
+    looks: usize,
+    seed: u64,
+) -> Result<Vec<ClassMeasurement>, crate::EvalError> {
+    let grid = OccupancyGrid::new(1, 1, 1.0, [0.0, 0.0], avs_map::grid::Cell::Unknown)
+        .map_err(|e| crate::EvalError::Sim(e.to_string()))?;
+    let appearances: Vec<ClassAppearance> = knowledge
+        .object_classes
+        .iter()
+        .filter(|c| !c.landmark)
+        .map(|c| ClassAppearance {
+            name: c.name.clone(),
+            width: c.size[0],
+            height: c.size[2],
+        })
+        .collect();
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut out = Vec::new();
+    for class in knowledge.object_classes.iter().filter(|c| !c.landmark) {
+        let models = [ObjectModel::from_class(class)];
+        let look = |objects: Vec<SceneObject>, depth: f64, rng: &mut ChaCha8Rng| {
+            let mut robot = SceneRobot {
+                scene: ImageScene {
+                    objects,
+                    background: Background {
+                        clutter: 1.0,
+                        depth,
+                    },
+                },
+                grid: &grid,
+                camera: *camera,
+                image: config.image,
+                model,
+                appearances: &appearances,
+                rng: ChaCha8Rng::seed_from_u64(rng.gen()),
+            };
+            let cone = ViewCone::new(Pose2D::new(0.0, 0.0, 0.0), 0.0, 0.0, 1.0);
+            three_step_search(&mut robot, &cone, &models, config)
+                .map(|o| o.found)
+                .unwrap_or_default()
+        };
+        let ds = distances();
+        let mut found = Vec::with_capacity(ds.len());
+        for &d in &ds {
+            let mut hits = 0usize;
+            for _ in 0..looks {
+                let mut sym = |x: f64| (2.0 * rng.gen::<f64>() - 1.0) * x;
+                let centre = Point3 {
+                    x: d,
+                    y: sym(0.25 * d * (camera.hfov / 2.0).tan()),
+                    z: camera.height + sym(0.25 * d * (camera.vfov / 2.0).tan()),
+                };
+                let yaw = std::f64::consts::PI + sym(30f64.to_radians());
+                let depth = d + rng.gen_range(0.5..2.0);
+                let object = SceneObject {
+                    class: class.name.clone(),
+                    centre,
+                    width: class.size[0],
+                    height: class.size[2],
+                    yaw,
+                    lookalike: false,
+                };
+                let seen = look(vec![object], depth, &mut rng);
+                let hit = seen.iter().any(|r| {
+                    r.class == class.name
+                        && (r.position.x - centre.x)
+                            .hypot(r.position.y - centre.y)
+                            .hypot(r.position.z - centre.z)
+                            <= FOUND_WITHIN
+                });
+                hits += usize::from(hit);
+            }
+            found.push(hits as f64 / looks.max(1) as f64);
+        }
+        let mut false_hits = 0usize;
+        for _ in 0..looks {
+            let depth = rng.gen_range(1.0..6.0);
+            false_hits += usize::from(!look(Vec::new(), depth, &mut rng).is_empty());
+        }
+        let false_alarms = false_hits as f64 / looks.max(1) as f64;
+        let sensing = derive(&class.name, &ds, &found, false_alarms);
+        out.push(ClassMeasurement {
+            class: class.name.clone(),
+            distances: ds,
+            found,
+            false_alarms,
+            sensing,
+        });
+    }
+    Ok(out)
+}
+
+/// The sensing of one class from its shares found per distance (module docs).
+fn derive(class: &str, ds: &[f64], found: &[f64], false_alarms: f64) -> Option<MeasuredSensing> {
+    let best = (0..found.len()).max_by(|&a, &b| found[a].total_cmp(&found[b]).then(b.cmp(&a)))?;
+    if found[best] < 0.5 {
+        return None;
+    }
+    let mut lo = best;
+    while lo > 0 && found[lo - 1] >= 0.5 {
+        lo -= 1;
+    }
+    let mut hi = best;
+    while hi + 1 < found.len() && found[hi + 1] >= 0.5 {
+        hi += 1;
+    }
+    let mean = found[lo..=hi].iter().sum::<f64>() / (hi - lo + 1) as f64;
+    Some(MeasuredSensing {
+        class: class.to_string(),
+        detection_range: [ds[lo], ds[hi]],
+        false_negative: (1.0 - mean).clamp(0.01, 0.99),
+        false_positive: false_alarms.clamp(0.001, 0.99),
+    })
+}
+
+/// The measured sensing of `knowledge`'s classes for an agent (the classes whose looks reach
+/// ½ somewhere), with the simulator's default image model and `config`'s image: what the
+/// episode runner gives an agent whose looks run the zoom pipeline.
+pub fn measured_sensing(
+    knowledge: &Knowledge,
+    camera: &Camera,
+    config: &ZoomConfig,
+) -> Result<Vec<MeasuredSensing>, crate::EvalError> {
+    Ok(
+        measure(knowledge, camera, &ImageModel::default(), config, 20, 1)?
+            .into_iter()
+            .filter_map(|m| m.sensing)
+            .collect(),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_range_is_the_run_around_the_best_distance_at_or_above_one_half() {
+        let ds = [0.5, 1.0, 1.5, 2.0, 2.5, 3.0];
+        let found = [0.4, 0.6, 0.9, 0.7, 0.3, 0.6];
+        let s = derive("mug", &ds, &found, 0.02).unwrap();
+        assert_eq!(s.detection_range, [1.0, 2.0]);
+        assert!((s.false_negative - (1.0 - (0.6 + 0.9 + 0.7) / 3.0)).abs() < 1e-12);
+        assert_eq!(s.false_positive, 0.02);
+        assert!(derive("mug", &ds, &[0.1; 6], 0.0).is_none());
+    }
+}
