@@ -616,6 +616,9 @@ pub struct MeasuredSensing {
     /// The distances `[min, max]` (metres, zoom 1) at which one look finds the object at
     /// least half the time.
     pub detection_range: [f64; 2],
+    /// The same at other zoom levels, `(zoom, [min, max])` (a zoomed look's range is not
+    /// simply the zoom times the unzoomed one: a farther scene has more clutter).
+    pub ranges_by_zoom: Vec<(f64, [f64; 2])>,
     /// P(a look misses the object | it is in view within the range).
     pub false_negative: f64,
     /// P(a look reports the class | nothing of it is in view).

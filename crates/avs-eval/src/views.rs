@@ -7,6 +7,9 @@
 //!   room — the walls around it and the furniture in it.
 //! * **Standpoints** are a lattice over the room's free floor (`spacing` apart) where the
 //!   robot's disc fits: the paper's navigation nodes, which a place map would give.
+//! * **Limits**: a class is detected from the distance at which it fills the image to that at
+//!   which it covers one vote cell (eq. 1, §3.2), times the view's zoom — or within its
+//!   measured range when the request carries one ([`ViewsRequest::measured`]).
 //! * **Heights**: a class is looked for between the lowest and highest of the heights the
 //!   knowledge puts it at ([`avs_view::search_heights`]).
 //! * **Line of sight**: walls and closed doors hide a cell; furniture does not (the paper's
@@ -46,6 +49,9 @@ pub struct ViewsRequest {
     pub spacing: f64,
     /// Also compute the exact optimum, with at most this many branch-and-bound nodes.
     pub optimal: Option<u64>,
+    /// Measured detection ranges ([`crate::zoom_sensing`]) of some classes, used instead of the
+    /// limits eq. 1 and the vote cell give (empty: those limits for every class).
+    pub measured: Vec<avs_agent::MeasuredSensing>,
 }
 
 /// One planned image, for people and tools.
@@ -155,12 +161,21 @@ pub fn room_problem(
         let zs = avs_view::search_heights(knowledge, class, false, HEIGHT_STEP, 0.75);
         let lo = zs.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = zs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        classes.push(SoughtClass::from_model(
-            &ObjectModel::from_class(class),
-            &camera,
-            &image,
-            [lo, hi],
-        ));
+        let mut sought =
+            SoughtClass::from_model(&ObjectModel::from_class(class), &camera, &image, [lo, hi]);
+        if let Some(m) = request.measured.iter().find(|m| m.class == class.name) {
+            let range = |r: [f64; 2]| avs_view::DetectionRange {
+                min: r[0],
+                max: r[1],
+            };
+            sought.range = range(m.detection_range);
+            sought.zoom_ranges = m
+                .ranges_by_zoom
+                .iter()
+                .map(|&(z, r)| (z, range(r)))
+                .collect();
+        }
+        classes.push(sought);
     }
     let grid = &world.truth;
     let in_room = |c: i64, r: i64| {

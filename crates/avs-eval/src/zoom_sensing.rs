@@ -10,7 +10,9 @@
 //! For each non-landmark class of the knowledge: the object's front face (`size[0] × size[2]`)
 //! at distances 0.25, 0.5, … 6 m along the optical axis, at the camera's height, facing it
 //! within ±30°, off the axis by up to a quarter of the half field, against an office
-//! background (clutter 1) 0.5–2 m behind it; `looks` looks per distance. A look finds the
+//! background (clutter 1) 0.5–2 m behind it; `looks` looks per distance; and the same at every
+//! zoom level of the camera with the distances times the zoom (a zoomed look's range is
+//! measured too: it is not the zoom times the unzoomed one, a farther scene being busier). A look finds the
 //! object when it recognises the class within [`FOUND_WITHIN`] of the face's centre. The
 //! range is the run of distances around the best one where the share found is at least ½;
 //! the miss rate is one minus the mean share found over it. False alarms: `looks` looks per
@@ -34,9 +36,9 @@ use rand_chacha::ChaCha8Rng;
 /// metres.
 pub const FOUND_WITHIN: f64 = 0.3;
 
-/// The distances looked from, metres.
-fn distances() -> Vec<f64> {
-    (1..=24).map(|i| 0.25 * f64::from(i)).collect()
+/// The distances looked from at `zoom`, metres: 0.25, 0.5, … 6 m times the zoom.
+fn distances(zoom: f64) -> Vec<f64> {
+    (1..=24).map(|i| 0.25 * f64::from(i) * zoom).collect()
 }
 
 /// A robot standing at the origin facing +x in front of one fixed scene: its images are the
@@ -138,16 +140,25 @@ impl Robot for SceneRobot<'_> {
     }
 }
 
-/// One class's measurement: the share of looks that found the object at each distance of
-/// [`distances`], and the sensing derived from it.
+/// The share of looks at one zoom that found the object, per distance.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct ClassMeasurement {
-    /// The class.
-    pub class: String,
+pub struct ZoomMeasurement {
+    /// The zoom of the looks' first image.
+    pub zoom: f64,
     /// The distances looked from, metres.
     pub distances: Vec<f64>,
     /// The share of looks that found the object, per distance.
     pub found: Vec<f64>,
+}
+
+/// One class's measurement: the share of looks that found the object at each distance, per
+/// zoom level of the camera ([`avs_view::view_zooms`]), and the sensing derived from it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ClassMeasurement {
+    /// The class.
+    pub class: String,
+    /// Per zoom level, zoom 1 first.
+    pub by_zoom: Vec<ZoomMeasurement>,
     /// The share of looks at empty scenes that recognised the class.
     pub false_alarms: f64,
     /// The sensing derived (module docs); `None` when no distance reaches ½.
@@ -180,7 +191,7 @@ pub fn measure(
     let mut out = Vec::new();
     for class in knowledge.object_classes.iter().filter(|c| !c.landmark) {
         let models = [ObjectModel::from_class(class)];
-        let look = |objects: Vec<SceneObject>, depth: f64, rng: &mut ChaCha8Rng| {
+        let look = |objects: Vec<SceneObject>, depth: f64, zoom: f64, rng: &mut ChaCha8Rng| {
             let mut robot = SceneRobot {
                 scene: ImageScene {
                     objects,
@@ -196,55 +207,63 @@ pub fn measure(
                 appearances: &appearances,
                 rng: ChaCha8Rng::seed_from_u64(rng.gen()),
             };
-            let cone = ViewCone::new(Pose2D::new(0.0, 0.0, 0.0), 0.0, 0.0, 1.0);
+            let cone = ViewCone::new(Pose2D::new(0.0, 0.0, 0.0), 0.0, 0.0, zoom);
             three_step_search(&mut robot, &cone, &models, config)
                 .map(|o| o.found)
                 .unwrap_or_default()
         };
-        let ds = distances();
-        let mut found = Vec::with_capacity(ds.len());
-        for &d in &ds {
-            let mut hits = 0usize;
-            for _ in 0..looks {
-                let mut sym = |x: f64| (2.0 * rng.gen::<f64>() - 1.0) * x;
-                let centre = Point3 {
-                    x: d,
-                    y: sym(0.25 * d * (camera.hfov / 2.0).tan()),
-                    z: camera.height + sym(0.25 * d * (camera.vfov / 2.0).tan()),
-                };
-                let yaw = std::f64::consts::PI + sym(30f64.to_radians());
-                let depth = d + rng.gen_range(0.5..2.0);
-                let object = SceneObject {
-                    class: class.name.clone(),
-                    centre,
-                    width: class.size[0],
-                    height: class.size[2],
-                    yaw,
-                    lookalike: false,
-                };
-                let seen = look(vec![object], depth, &mut rng);
-                let hit = seen.iter().any(|r| {
-                    r.class == class.name
-                        && (r.position.x - centre.x)
-                            .hypot(r.position.y - centre.y)
-                            .hypot(r.position.z - centre.z)
-                            <= FOUND_WITHIN
-                });
-                hits += usize::from(hit);
+        let mut by_zoom = Vec::new();
+        for zoom in avs_view::view_zooms(camera.max_zoom) {
+            let ds = distances(zoom);
+            let mut found = Vec::with_capacity(ds.len());
+            for &d in &ds {
+                let mut hits = 0usize;
+                for _ in 0..looks {
+                    let mut sym = |x: f64| (2.0 * rng.gen::<f64>() - 1.0) * x;
+                    let (hfov, vfov) = (camera.hfov / zoom, camera.vfov / zoom);
+                    let centre = Point3 {
+                        x: d,
+                        y: sym(0.25 * d * (hfov / 2.0).tan()),
+                        z: camera.height + sym(0.25 * d * (vfov / 2.0).tan()),
+                    };
+                    let yaw = std::f64::consts::PI + sym(30f64.to_radians());
+                    let depth = d + rng.gen_range(0.5..2.0);
+                    let object = SceneObject {
+                        class: class.name.clone(),
+                        centre,
+                        width: class.size[0],
+                        height: class.size[2],
+                        yaw,
+                        lookalike: false,
+                    };
+                    let seen = look(vec![object], depth, zoom, &mut rng);
+                    let hit = seen.iter().any(|r| {
+                        r.class == class.name
+                            && (r.position.x - centre.x)
+                                .hypot(r.position.y - centre.y)
+                                .hypot(r.position.z - centre.z)
+                                <= FOUND_WITHIN
+                    });
+                    hits += usize::from(hit);
+                }
+                found.push(hits as f64 / looks.max(1) as f64);
             }
-            found.push(hits as f64 / looks.max(1) as f64);
+            by_zoom.push(ZoomMeasurement {
+                zoom,
+                distances: ds,
+                found,
+            });
         }
         let mut false_hits = 0usize;
         for _ in 0..looks {
             let depth = rng.gen_range(1.0..6.0);
-            false_hits += usize::from(!look(Vec::new(), depth, &mut rng).is_empty());
+            false_hits += usize::from(!look(Vec::new(), depth, 1.0, &mut rng).is_empty());
         }
         let false_alarms = false_hits as f64 / looks.max(1) as f64;
-        let sensing = derive(&class.name, &ds, &found, false_alarms);
+        let sensing = derive(&class.name, &by_zoom, false_alarms);
         out.push(ClassMeasurement {
             class: class.name.clone(),
-            distances: ds,
-            found,
+            by_zoom,
             false_alarms,
             sensing,
         });
@@ -252,8 +271,9 @@ pub fn measure(
     Ok(out)
 }
 
-/// The sensing of one class from its shares found per distance (module docs).
-fn derive(class: &str, ds: &[f64], found: &[f64], false_alarms: f64) -> Option<MeasuredSensing> {
+/// The run of distances around the best one where the share found is at least ½, and the
+/// mean share over it; `None` when no distance reaches ½.
+fn run_at_half(ds: &[f64], found: &[f64]) -> Option<([f64; 2], f64)> {
     let best = (0..found.len()).max_by(|&a, &b| found[a].total_cmp(&found[b]).then(b.cmp(&a)))?;
     if found[best] < 0.5 {
         return None;
@@ -267,9 +287,21 @@ fn derive(class: &str, ds: &[f64], found: &[f64], false_alarms: f64) -> Option<M
         hi += 1;
     }
     let mean = found[lo..=hi].iter().sum::<f64>() / (hi - lo + 1) as f64;
+    Some(([ds[lo], ds[hi]], mean))
+}
+
+/// The sensing of one class from its measurements (module docs): the unzoomed run decides the
+/// range and the miss rate, the zoomed runs their own ranges.
+fn derive(class: &str, by_zoom: &[ZoomMeasurement], false_alarms: f64) -> Option<MeasuredSensing> {
+    let first = by_zoom.first()?;
+    let (range, mean) = run_at_half(&first.distances, &first.found)?;
     Some(MeasuredSensing {
         class: class.to_string(),
-        detection_range: [ds[lo], ds[hi]],
+        detection_range: range,
+        ranges_by_zoom: by_zoom
+            .iter()
+            .filter_map(|m| run_at_half(&m.distances, &m.found).map(|(r, _)| (m.zoom, r)))
+            .collect(),
         false_negative: (1.0 - mean).clamp(0.01, 0.99),
         false_positive: false_alarms.clamp(0.001, 0.99),
     })
@@ -297,12 +329,21 @@ mod tests {
 
     #[test]
     fn the_range_is_the_run_around_the_best_distance_at_or_above_one_half() {
-        let ds = [0.5, 1.0, 1.5, 2.0, 2.5, 3.0];
-        let found = [0.4, 0.6, 0.9, 0.7, 0.3, 0.6];
-        let s = derive("mug", &ds, &found, 0.02).unwrap();
+        let at = |zoom: f64, found: &[f64]| ZoomMeasurement {
+            zoom,
+            distances: [0.5, 1.0, 1.5, 2.0, 2.5, 3.0].map(|d| d * zoom).to_vec(),
+            found: found.to_vec(),
+        };
+        let m = [
+            at(1.0, &[0.4, 0.6, 0.9, 0.7, 0.3, 0.6]),
+            at(2.0, &[0.9, 0.8, 0.2, 0.1, 0.0, 0.0]),
+            at(4.0, &[0.1; 6]),
+        ];
+        let s = derive("mug", &m, 0.02).unwrap();
         assert_eq!(s.detection_range, [1.0, 2.0]);
+        assert_eq!(s.ranges_by_zoom, vec![(1.0, [1.0, 2.0]), (2.0, [1.0, 2.0])]);
         assert!((s.false_negative - (1.0 - (0.6 + 0.9 + 0.7) / 3.0)).abs() < 1e-12);
         assert_eq!(s.false_positive, 0.02);
-        assert!(derive("mug", &ds, &[0.1; 6], 0.0).is_none());
+        assert!(derive("mug", &[at(1.0, &[0.1; 6])], 0.0).is_none());
     }
 }

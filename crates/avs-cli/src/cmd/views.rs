@@ -56,6 +56,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         k: a.k,
         spacing: a.spacing,
         optimal: a.optimal.then_some(a.optimal_nodes),
+        measured: Vec::new(),
     };
     let started = std::time::Instant::now();
     let (problem, plan, report) = plan_room(&world, &k, &request)?;

@@ -255,7 +255,8 @@ pub fn candidate_units(
         for (s, at) in problem.standpoints.iter().enumerate() {
             let mut seen = Vec::new();
             for (ci, class) in problem.classes.iter().enumerate() {
-                let (lo, hi) = (class.range.min * zoom, class.range.max * zoom);
+                let r = class.range_at(zoom);
+                let (lo, hi) = (r.min, r.max);
                 for (j, cell) in problem.cells.iter().enumerate() {
                     let d = (cell[0] - at[0]).hypot(cell[1] - at[1]);
                     if d < lo || d > hi || d < 1e-9 || !line_of_sight(*at, *cell) {
@@ -316,6 +317,7 @@ mod tests {
                 range: DetectionRange { min: 0.3, max: 4.0 },
                 heights,
                 unique: true,
+                zoom_ranges: Vec::new(),
             }],
             camera: Camera {
                 hfov: 47.5f64.to_radians(),

@@ -418,6 +418,7 @@ mod tests {
             range: DetectionRange { min: 0.5, max },
             heights: [0.7, 0.9],
             unique: true,
+            zoom_ranges: Vec::new(),
         };
         ViewProblem {
             cells,

@@ -27,6 +27,9 @@ pub struct SoughtClass {
     pub heights: [f64; 2],
     /// Whether there is only one: once found, its pairs leave the plan ([`crate::plan::drop_class`]).
     pub unique: bool,
+    /// Measured ranges at given zoom levels, `(zoom, range)`: a view at one of these zooms uses
+    /// its range instead of `range` × zoom (empty: `range` × zoom at every level).
+    pub zoom_ranges: Vec<(f64, DetectionRange)>,
 }
 
 impl SoughtClass {
@@ -47,7 +50,23 @@ impl SoughtClass {
             },
             heights,
             unique: true,
+            zoom_ranges: Vec::new(),
         }
+    }
+
+    /// The range of a view at `zoom`: the measured one at that zoom when there is one,
+    /// `range` × zoom otherwise (the same image detail at `zoom` times the distance).
+    pub fn range_at(&self, zoom: f64) -> DetectionRange {
+        self.zoom_ranges
+            .iter()
+            .find(|(z, _)| (z - zoom).abs() < 1e-9)
+            .map_or(
+                DetectionRange {
+                    min: self.range.min * zoom,
+                    max: self.range.max * zoom,
+                },
+                |(_, r)| *r,
+            )
     }
 
     /// The recognition limits of §2.1.3: the object fills the image at zoom 1 and at the

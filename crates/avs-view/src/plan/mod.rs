@@ -15,7 +15,9 @@
 //! * [`optimal`] — the exact minimum number of images (a 0/1 program), to measure the
 //!   greedy's gap;
 //! * [`execute`] — §2.1.4's execution order (nearest standpoint first) and the removal of a
-//!   unique object's pairs once it is found.
+//!   unique object's pairs once it is found;
+//! * [`search`] — a room searched for several objects at once: the plan executed, each view
+//!   through the three-step zoom search (§3), found classes dropped (§4.4's experiment).
 //!
 //! ## Choices where the paper is vague
 //! * **Zoom.** A view is (standpoint, direction, tilt, zoom, classes), as the issue has it:
@@ -54,12 +56,14 @@ pub mod execute;
 pub mod greedy;
 pub mod limits;
 pub mod optimal;
+pub mod search;
 
 pub use candidates::{candidate_units, near_distance, Unit};
 pub use execute::{drop_class, nearest_first};
 pub use greedy::plan_views;
 pub use limits::SoughtClass;
 pub use optimal::{optimal_views, OptimalPlan};
+pub use search::{search_room, RoomSearch};
 
 use avs_robot::Camera;
 use serde::Serialize;

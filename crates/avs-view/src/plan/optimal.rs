@@ -167,6 +167,7 @@ mod tests {
                 range: DetectionRange { min: 0.4, max: 2.2 },
                 heights: [0.7, 0.9],
                 unique: true,
+                zoom_ranges: Vec::new(),
             }],
             camera: Camera {
                 hfov: 60f64.to_radians(),
