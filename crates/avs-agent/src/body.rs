@@ -32,6 +32,12 @@ pub(crate) struct Body<'r, R: Robot + ?Sized> {
     zoom_log: Vec<ZoomImage>,
     /// Images processed by looks, those of them the zoom pipeline added, and its seconds.
     images: (usize, usize, f64),
+    /// Classes every look also runs the detector for (the later goals of a
+    /// [`Goal::find_all`](crate::Goal::find_all)); their detections go to `sighted`, not to
+    /// the caller of the look.
+    watch: Vec<String>,
+    /// Detections of `watch` classes since [`Body::take_sightings`].
+    sighted: Vec<Detection>,
 }
 
 /// The confidence of a recognition with `matches` of a model's `features` matched: `s / (s +
@@ -59,7 +65,21 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
             zoom: None,
             zoom_log: Vec::new(),
             images: (0, 0, 0.0),
+            watch: Vec::new(),
+            sighted: Vec::new(),
         }
+    }
+
+    /// Every look also runs the detector for `classes` (sought by later goals); what it sees
+    /// of them is kept for [`Body::take_sightings`].
+    pub fn watching(mut self, classes: Vec<String>) -> Self {
+        self.watch = classes;
+        self
+    }
+
+    /// The detections of the watched classes since the last call.
+    pub fn take_sightings(&mut self) -> Vec<Detection> {
+        std::mem::take(&mut self.sighted)
     }
 
     /// Looks run the zoom pipeline for `models`' classes (the others go to the one-shot
@@ -159,10 +179,25 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
     }
 
     /// Point the camera along `cone` (moving to its pose first if needed) and run the detector
-    /// for `classes`.
+    /// for `classes` — and for the watched classes ([`Body::watching`]), whose detections are
+    /// kept aside: the report holds those of `classes` only.
     pub fn look(&mut self, cone: &ViewCone, classes: &[String]) -> ActionResult<ViewReport> {
         let before = self.robot.odometry();
-        let r = self.look_with_zoom(cone, classes);
+        let extra: Vec<&String> = self.watch.iter().filter(|w| !classes.contains(w)).collect();
+        let r = if extra.is_empty() {
+            self.look_with_zoom(cone, classes)
+        } else {
+            let asked: Vec<String> = classes.iter().chain(extra).cloned().collect();
+            self.look_with_zoom(cone, &asked).map(|mut r| {
+                let (own, other) = r
+                    .detections
+                    .into_iter()
+                    .partition(|d| classes.contains(&d.class));
+                r.detections = own;
+                self.sighted.extend(other);
+                r
+            })
+        };
         self.book(before);
         r
     }

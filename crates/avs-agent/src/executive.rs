@@ -14,6 +14,7 @@ use crate::run::{Run, StepEnd};
 use crate::skills::enter::enter;
 use crate::skills::look_around::{look_around, look_around_if_new};
 use crate::skills::session::{dt_search, Search};
+use crate::skills::sighted::verify_sightings;
 use crate::skills::views::create_cones;
 use crate::skills::Ctx;
 use crate::strategy::{baseline_loop, cover_all};
@@ -96,6 +97,18 @@ impl Agent {
         self.search_with(robot, goal, &mut sink)
     }
 
+    /// Search for each of `goals` in turn with the same memory (the goals of
+    /// [`Goal::find_all`]: every look runs the detector for the classes still sought, and a
+    /// later goal first verifies what earlier looks saw of its class); one report per goal,
+    /// in order.
+    pub fn search_all<R: Robot + ?Sized>(
+        &mut self,
+        robot: &mut R,
+        goals: Vec<Goal>,
+    ) -> Result<Vec<SearchReport>, AgentError> {
+        goals.into_iter().map(|g| self.search(robot, g)).collect()
+    }
+
     /// Search for `goal`, handing every trace event to `sink` as it happens.
     pub fn search_with<R: Robot + ?Sized>(
         &mut self,
@@ -103,9 +116,12 @@ impl Agent {
         goal: Goal,
         sink: &mut dyn TraceSink,
     ) -> Result<SearchReport, AgentError> {
-        if self.knowledge.class(&goal.class).is_none() {
+        if let Some(class) = std::iter::once(&goal.class)
+            .chain(&goal.also)
+            .find(|c| self.knowledge.class(c).is_none())
+        {
             return Err(AgentError::UnknownClass {
-                class: goal.class.clone(),
+                class: class.clone(),
                 known: self
                     .knowledge
                     .object_classes
@@ -125,7 +141,13 @@ impl Agent {
                            informed strategy",
             });
         }
-        let mut body = Body::new(robot);
+        let mut body = Body::new(robot).watching(
+            goal.also
+                .iter()
+                .filter(|c| **c != goal.class)
+                .cloned()
+                .collect(),
+        );
         if self.config.zoom_pipeline {
             // The small objects go through the zoom pipeline; furniture fills an unzoomed
             // image and stays with the one-shot detector.
@@ -165,16 +187,19 @@ impl Agent {
         };
         let rejected_before = mem.rejected.len();
         look_around(cx, mem, &mut body, &mut run)?;
-        let end = match cx.config.strategy {
-            Strategy::Planner => {
+        let sighted = verify_sightings(cx, mem, &mut body, &mut run, &goal.class)?;
+        let end = match (sighted, cx.config.strategy) {
+            (Some(f), _) => Ok(f),
+            (None, Strategy::Planner) => {
                 let planners = Planners {
                     planner: &self.planner,
                     fallback: &self.fallback,
                 };
                 main_loop(cx, planners, mem, &mut body, &mut run, &goal)?
             }
-            s => baseline_loop(cx, mem, &mut body, &mut run, &goal, s)?,
+            (None, s) => baseline_loop(cx, mem, &mut body, &mut run, &goal, s)?,
         };
+        mem.note_sightings(body.take_sightings(), cx.config.min_confidence);
         let (found, reason, gave_up) = match end {
             Ok(f) => {
                 let r = run.goal_reached(&f);
@@ -562,6 +587,79 @@ mod tests {
             report.reason.starts_with("found cerealbox"),
             "{}",
             report.reason
+        );
+    }
+
+    /// The shipped domain.
+    fn domain() -> Domain {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../domains/object_search.yaml"
+        );
+        Domain::load(std::path::Path::new(path)).unwrap()
+    }
+
+    #[test]
+    fn a_find_all_goal_verifies_what_earlier_looks_saw_of_its_class_before_it_plans() {
+        let world = || {
+            let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
+            robot.place(testing::object("cerealbox", 3.6, 2.8, 0.14));
+            robot.place(testing::object("mug", 3.9, 2.5, 0.05));
+            robot
+        };
+        let mut robot = world();
+        let mut agent = Agent::new(domain(), testing::knowledge(), AgentConfig::default()).unwrap();
+        let goals = Goal::find_all(["cerealbox", "mug", "cerealbox"]);
+        assert_eq!(goals.len(), 2, "duplicates are dropped");
+        assert_eq!(goals[0].also, ["mug"]);
+        assert!(goals[1].also.is_empty());
+        let reports = agent.search_all(&mut robot, goals).unwrap();
+        let text = |r: &SearchReport| crate::trace::render_text(&r.trace);
+        for (r, (x, y)) in reports.iter().zip([(3.6, 2.8), (3.9, 2.5)]) {
+            let f = r.found.as_ref().unwrap_or_else(|| panic!("{}", text(r)));
+            assert!(f.pose.planar_distance(x, y) < 1e-9, "{}", text(r));
+        }
+        // The cereal box's looks asked for the mug too; the mug's search verified that
+        // sighting and needed no plan and no view-cone session of its own.
+        assert!(robot.calls().iter().any(|c| matches!(
+            c,
+            avs_robot::Call::View(_, classes) if classes.len() == 2 && classes.contains(&"mug".to_string())
+        )));
+        let mug = &reports[1];
+        assert_eq!(
+            (mug.metrics.plans, mug.metrics.dt_sessions),
+            (0, 0),
+            "{}",
+            text(mug)
+        );
+        assert_eq!(mug.metrics.candidates_accepted, 1, "{}", text(mug));
+        assert!(
+            text(mug).contains("sighting(s) of mug by earlier looks"),
+            "{}",
+            text(mug)
+        );
+
+        // The same two goals on their own: the mug's search has to plan a search.
+        let mut robot = world();
+        let mut agent = Agent::new(domain(), testing::knowledge(), AgentConfig::default()).unwrap();
+        agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
+        let alone = agent.search(&mut robot, Goal::find("mug")).unwrap();
+        assert!(
+            alone.found.is_some() && alone.metrics.dt_sessions > 0,
+            "{}",
+            text(&alone)
+        );
+    }
+
+    #[test]
+    fn a_find_all_goal_naming_an_unknown_class_is_refused_naming_it() {
+        let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
+        let mut agent = Agent::new(domain(), testing::knowledge(), AgentConfig::default()).unwrap();
+        let goals = Goal::find_all(["cerealbox", "unicorn"]);
+        let e = agent.search(&mut robot, goals[0].clone()).unwrap_err();
+        assert!(
+            matches!(&e, AgentError::UnknownClass { class, .. } if class == "unicorn"),
+            "{e}"
         );
     }
 

@@ -14,6 +14,10 @@ pub struct Goal {
     /// Points (metres, world frame) on the floor of the room that holds the target, for the
     /// [`Strategy::Informed`](crate::Strategy::Informed) reference; empty when not told.
     pub region: Vec<[f64; 2]>,
+    /// Classes sought by later goals of the same [`Goal::find_all`]: every look of this
+    /// search runs the detector for them too, and what it sees of them is kept for their own
+    /// searches (which verify it before they plan). Empty for a goal of its own.
+    pub also: Vec<String>,
 }
 
 impl Goal {
@@ -22,7 +26,34 @@ impl Goal {
         Self {
             class: class.to_string(),
             region: Vec::new(),
+            also: Vec::new(),
         }
+    }
+
+    /// Find an object of each of `classes` at once (Sjöö et al. `004`'s multi-object search):
+    /// one goal per class, in the order given (duplicates dropped), each also seeking the
+    /// classes after it. Run them with [`Agent::search_all`](crate::Agent::search_all), or
+    /// one by one with [`Agent::search`](crate::Agent::search) on the same agent: every look
+    /// of a goal's search runs the detector (and the zoom pipeline, with its windows shared
+    /// between the classes) for the classes still sought, and a later goal first verifies
+    /// what earlier looks saw of its class, nearest first, before it plans a search of its
+    /// own. The switching planner keeps one goal at a time (`002` §II-A plans for one
+    /// `reported(label)`); what the classes share is every image, not the plan.
+    pub fn find_all<S: AsRef<str>>(classes: impl IntoIterator<Item = S>) -> Vec<Goal> {
+        let mut order: Vec<String> = Vec::new();
+        for c in classes {
+            let c = c.as_ref();
+            if !order.iter().any(|o| o == c) {
+                order.push(c.to_string());
+            }
+        }
+        (0..order.len())
+            .map(|i| Goal {
+                class: order[i].clone(),
+                region: Vec::new(),
+                also: order[i + 1..].to_vec(),
+            })
+            .collect()
     }
 
     /// The same goal, told that the target lies in the room whose floor holds `points` (for

@@ -180,6 +180,7 @@ pub fn bench(
                 seed: s,
                 config: config.clone(),
                 before: &[],
+                find_all: false,
                 faults: Faults {
                     detector: p.detector,
                     ..Faults::default()

@@ -161,6 +161,10 @@ pub struct EpisodeSpec<'a> {
     /// Classes the same agent searches for first, in order (its memory carries over); the
     /// summary is the goal's search.
     pub before: &'a [String],
+    /// Whether `before` and the goal are one [`Goal::find_all`] (the goal last): every look of
+    /// a search also seeks the classes after it, and each later search first verifies what
+    /// earlier looks saw of its class. Otherwise each `before` search seeks its class alone.
+    pub find_all: bool,
     /// Whether the simulated robot has its place classifier
     /// (`avs_sim::place_classifier`; off by default).
     pub place_classifier: bool,
@@ -183,13 +187,29 @@ pub fn run_episode(
         spec.config.clone(),
     )?;
     let mut sink = |e: &Event| on_event(e);
-    for class in spec.before {
-        agent.search_with(&mut robot, Goal::find(class), &mut sink)?;
+    // The goal's own search is the last; with `find_all`, a `before` class that is the goal
+    // is sought there.
+    let mut goals = if spec.find_all {
+        Goal::find_all(
+            spec.before
+                .iter()
+                .map(String::as_str)
+                .filter(|c| *c != spec.goal)
+                .chain([spec.goal]),
+        )
+    } else {
+        spec.before.iter().map(|c| Goal::find(c)).collect()
+    };
+    let mut goal = Goal::find(spec.goal);
+    if spec.find_all {
+        goal = goals.pop().unwrap_or(goal);
+    }
+    for g in goals {
+        agent.search_with(&mut robot, g, &mut sink)?;
     }
     let origin = [world.env.robot.start.x, world.env.robot.start.y];
     let goal_from = robot.trail().len().saturating_sub(1);
     let start = robot.trail().last().copied().unwrap_or(origin);
-    let mut goal = Goal::find(spec.goal);
     if spec.config.strategy == Strategy::Informed {
         // The informed reference is told the target's room (its floor) and nothing else.
         let mut region = target_room_floor(world, spec.goal, start, 0.5);

@@ -279,6 +279,7 @@ fn run_one(
             ..config.clone()
         },
         before: &[],
+        find_all: false,
         faults,
         place_classifier: false,
     };

@@ -40,6 +40,7 @@
 //!     config: avs_agent::AgentConfig::default(),
 //!     faults: Faults::default(),
 //!     before: &[],
+//!     find_all: false,
 //!     place_classifier: false,
 //! };
 //! let episode = run_episode(&world, &spec, &mut |_| {}).unwrap();

@@ -437,6 +437,7 @@ fn the_informed_reference_covers_the_room_it_was_told_first_and_beats_the_uninfo
             },
             faults: Faults::default(),
             before: &[],
+            find_all: false,
             place_classifier: false,
         };
         // Where the first coverage view was taken (the robot's pose after it).

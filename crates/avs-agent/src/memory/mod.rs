@@ -152,6 +152,11 @@ pub(crate) struct Memory {
     /// verification. Sightings of the class where `rejections_to_ignore` verifications
     /// failed are taken for a look-alike and ignored.
     pub rejected: Vec<(String, [f64; 2])>,
+    /// Detections of classes a later goal of a [`Goal::find_all`](crate::Goal::find_all)
+    /// seeks, made by the looks of an earlier goal's search and not verified yet: one per
+    /// class and spot (the most confident; [`Memory::note_sightings`]). The search for the
+    /// class verifies them first (`skills::sighted`).
+    pub sightings: Vec<Detection>,
     /// The model verifiers built so far, by class (`skills::verify`): a model is built from
     /// its knowledge-file spec once (a GP with up to 2000 training points per hypothesis), not
     /// once per candidate.
@@ -247,6 +252,7 @@ impl Memory {
             spurious_cache: Memo::default(),
             last_target: None,
             rejected: Vec::new(),
+            sightings: Vec::new(),
             verifiers: BTreeMap::new(),
             at: [0.0, 0.0],
             doors: Vec::new(),
@@ -324,6 +330,44 @@ impl Memory {
             .iter()
             .filter(|c| **c == Some(r as usize))
             .count()
+    }
+
+    /// Keep `seen` (detections of classes sought later) at least `min_confidence` confident
+    /// and new ([`Memory::is_new_sighting`]): one sighting per class within
+    /// [`Tuning::confirm_radius`] of another, the more confident.
+    pub fn note_sightings(&mut self, seen: Vec<Detection>, min_confidence: f64) {
+        let radius = self.tuning.confirm_radius;
+        for d in seen {
+            if d.confidence < min_confidence || !self.is_new_sighting(&d) {
+                continue;
+            }
+            let same = self.sightings.iter_mut().find(|s| {
+                s.class == d.class && s.pose.planar_distance(d.pose.x, d.pose.y) < radius
+            });
+            match same {
+                Some(s) if s.confidence < d.confidence => *s = d,
+                Some(_) => {}
+                None => self.sightings.push(d),
+            }
+        }
+    }
+
+    /// File a verified object of `class` at `pos` found outside a landmark search (not a
+    /// landmark, on nothing known) under the place it lies at, or the robot's; its index in
+    /// [`Memory::objects`], `None` when no place has a room yet.
+    pub fn file_found(&mut self, class: &str, pos: Point3) -> Option<usize> {
+        let place = self
+            .object_place([pos.x, pos.y])
+            .or_else(|| self.current_place())?;
+        self.objects.push(Known {
+            class: class.to_string(),
+            pos,
+            place,
+            landmark: None,
+            on: None,
+            counted: false,
+        });
+        Some(self.objects.len() - 1)
     }
 
     /// The place an object at `p` is filed under: the nearest place of the room it lies in.

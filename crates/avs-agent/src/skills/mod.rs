@@ -7,11 +7,14 @@
 //!   room found there;
 //! * [`views`] — CREATEVIEWCONES: view planning over a room's or a landmark's points;
 //! * [`session`] — SEARCHFOROBJECT: the closed-loop view-cone POMDP session;
-//! * [`verify`] — a closer look at a sighting before it is reported.
+//! * [`verify`] — a closer look at a sighting before it is reported;
+//! * [`sighted`] — the sightings of a later goal's class made by an earlier goal's looks
+//!   ([`Goal::find_all`](crate::Goal::find_all)), verified before the later goal plans.
 
 pub(crate) mod enter;
 pub(crate) mod look_around;
 pub(crate) mod session;
+pub(crate) mod sighted;
 pub(crate) mod verify;
 pub(crate) mod views;
 

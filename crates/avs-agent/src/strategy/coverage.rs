@@ -3,7 +3,7 @@
 use crate::binding::{names, Binding};
 use crate::body::Body;
 use crate::config::Strategy;
-use crate::memory::{standable, ConeLoc, ConeSet, Known, Memory, Target};
+use crate::memory::{standable, ConeLoc, ConeSet, Memory, Target};
 use crate::reason::GiveUpReason;
 use crate::report::{Activity, FoundObject, Goal};
 use crate::run::Run;
@@ -447,19 +447,7 @@ fn process_views<R: Robot + ?Sized>(
         run.finished(action, outcome, body, mem);
         if let Some(d) = confirmed {
             let k = mem.objects.len();
-            let place = mem
-                .object_place([d.pose.x, d.pose.y])
-                .or_else(|| mem.current_place());
-            if let Some(place) = place {
-                mem.objects.push(Known {
-                    class: label.to_string(),
-                    pos: d.pose,
-                    place,
-                    landmark: None,
-                    on: None,
-                    counted: false,
-                });
-            }
+            mem.file_found(label, d.pose);
             return Ok(Some(FoundObject {
                 name: names::object(k),
                 class: label.to_string(),

@@ -37,6 +37,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         faults: Default::default(),
         edits: Default::default(),
         before: &[],
+        find_all: false,
         cover_before_giving_up: avs_agent::AgentConfig::default().cover_before_giving_up,
         place_classifier: false,
         json_file: a.trace_json.as_deref(),

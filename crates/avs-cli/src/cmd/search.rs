@@ -1,7 +1,7 @@
 //! `avs search [--env E] [--knowledge K] [--domain D] --goal CLASS [--seed N] [--trace-json F]
 //! [--svg F] [--json] [--strategy planner|uninformed|frontier|informed] [--failure-rate P]
 //! [--fp-scale X] [--close-door NAME[@METRES]]... [--start X,Y,YAW_DEG] [--remove CLASS_OR_ID]...
-//! [--before CLASS]... [--give-up paper|cover]`
+//! [--before CLASS]... [--find-all] [--give-up paper|cover]`
 //!
 //! Exit status: 0 found, 3 searched and not found, 1 invalid input, 2 usage.
 //!
@@ -76,6 +76,11 @@ pub struct Args {
     /// is the goal's search.
     #[arg(long, value_name = "CLASS")]
     pub before: Vec<String>,
+    /// Seek the `--before` classes and the goal at once (`Goal::find_all`): every look also
+    /// runs the detector for the classes not searched yet, and each search first verifies
+    /// what earlier looks saw of its class.
+    #[arg(long)]
+    pub find_all: bool,
     /// When the planner gives up: `paper` ends the search there (the paper's threshold),
     /// `cover` first covers what no search has looked at.
     #[arg(long, value_enum, default_value_t = GiveUp::Cover)]
@@ -199,6 +204,8 @@ pub struct Request<'a> {
     pub edits: WorldEdits,
     /// Classes searched for first by the same agent.
     pub before: &'a [String],
+    /// `before` and the goal sought at once.
+    pub find_all: bool,
     /// Cover what no search has looked at before giving up.
     pub cover_before_giving_up: bool,
     /// Give the simulated robot its place classifier.
@@ -308,6 +315,7 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
         config,
         faults: r.faults.clone(),
         before: r.before,
+        find_all: r.find_all,
         place_classifier: r.place_classifier,
     };
     let out = run_episode(&world, &spec, &mut on_event)
@@ -529,6 +537,7 @@ fn search(a: Args) -> anyhow::Result<bool> {
             remove,
         },
         before: &a.before,
+        find_all: a.find_all,
         cover_before_giving_up: a.give_up == GiveUp::Cover,
         place_classifier: a.place_classifier,
         json_file: a.trace_json.as_deref(),

@@ -1,5 +1,5 @@
 //! `avs views ENV.yaml --room NAME --classes A,B,… [--knowledge K] [--k K] [--spacing M]
-//! [--optimal] [--svg F] [--json]`: the view plan of one room for several classes at once
+//! [--optimal] [--measured] [--svg F] [--json]`: the view plan of one room for several classes at once
 //! (Sjöö et al. `004` §2.1; [`avs_eval::views`]): standpoints used, searches, the share of each
 //! class's cells covered, and with `--optimal` the exact optimum's searches beside the greedy's.
 
@@ -35,6 +35,11 @@ pub struct Args {
     /// Branch-and-bound nodes the exact optimum may use.
     #[arg(long, default_value_t = avs_eval::views::DEFAULT_NODE_LIMIT)]
     pub optimal_nodes: u64,
+    /// Plan each class within the range where a look of the zoom pipeline finds it at least
+    /// half the time, measured on the simulated camera per zoom level
+    /// (`avs_eval::zoom_sensing`), instead of the limits eq. 1 and the vote cell give.
+    #[arg(long)]
+    pub measured: bool,
     /// Write the plan as SVG to this file.
     #[arg(long)]
     pub svg: Option<PathBuf>,
@@ -56,7 +61,15 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         k: a.k,
         spacing: a.spacing,
         optimal: a.optimal.then_some(a.optimal_nodes),
-        measured: Vec::new(),
+        measured: if a.measured {
+            avs_eval::zoom_sensing::measured_sensing(
+                &k,
+                &avs_agent::Camera::from(&world.env.camera),
+                &avs_agent::AgentConfig::default().zoom,
+            )?
+        } else {
+            Vec::new()
+        },
     };
     let started = std::time::Instant::now();
     let (problem, plan, report) = plan_room(&world, &k, &request)?;
