@@ -600,6 +600,23 @@ mod tests {
     }
 
     #[test]
+    fn the_zoom_for_a_distance_is_the_measured_level_that_holds_it_nearest_its_middle() {
+        let m = MeasuredSensing {
+            class: "whiteboardmarker".into(),
+            detection_range: [0.25, 0.75],
+            ranges_by_zoom: vec![(1.0, [0.25, 0.75]), (2.0, [0.5, 1.0]), (4.0, [1.0, 2.0])],
+            false_negative: 0.15,
+            false_positive: 0.01,
+        };
+        assert_eq!(m.zoom_at(0.4), Some(1.0));
+        // 0.7 m: inside zoom 1's range near its end, in the middle of zoom 2's.
+        assert_eq!(m.zoom_at(0.7), Some(2.0));
+        assert_eq!(m.zoom_at(1.6), Some(4.0));
+        assert_eq!(m.zoom_at(0.1), None);
+        assert_eq!(m.zoom_at(2.5), None);
+    }
+
+    #[test]
     fn strategies_parse_from_and_print_as_their_names() {
         for s in [Strategy::Planner, Strategy::Uninformed, Strategy::Frontier] {
             assert_eq!(s.to_string().parse::<Strategy>(), Ok(s));
@@ -623,6 +640,20 @@ pub struct MeasuredSensing {
     pub false_negative: f64,
     /// P(a look reports the class | nothing of it is in view).
     pub false_positive: f64,
+}
+
+impl MeasuredSensing {
+    /// The zoom to look through at an object `distance` metres away (3-D): of the measured
+    /// levels whose range holds the distance, the one that holds it nearest the middle of its
+    /// range (where a look finds the object most often); `None` when no level reaches it.
+    pub fn zoom_at(&self, distance: f64) -> Option<f64> {
+        self.ranges_by_zoom
+            .iter()
+            .filter(|(_, [lo, hi])| (*lo..=*hi).contains(&distance) && hi > lo)
+            .map(|&(z, [lo, hi])| (z, (distance - 0.5 * (lo + hi)).abs() / (hi - lo)))
+            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.total_cmp(&b.0)))
+            .map(|(z, _)| z)
+    }
 }
 
 impl AgentConfig {

@@ -194,6 +194,42 @@ pub fn create_view_cones_costed(
     line_of_sight: impl Fn([f64; 3], [f64; 3]) -> bool,
 ) -> Result<ViewConePlan> {
     let bad = |field: &'static str, message: String| ViewError::InvalidInput { field, message };
+    if zooms.is_empty() || zooms.iter().any(|z| !(z.is_finite() && *z >= 1.0)) {
+        return Err(bad(
+            "zooms",
+            format!("expected one or more zoom levels, each a number ≥ 1, got {zooms:?}"),
+        ));
+    }
+    // Zooming by z narrows the field by z and stretches the detection range by z (the object
+    // fills as many pixels at z times the distance).
+    let levels: Vec<(f64, DetectionRange)> = zooms
+        .iter()
+        .map(|&z| {
+            (
+                z,
+                DetectionRange {
+                    min: range.min * z,
+                    max: range.max * z,
+                },
+            )
+        })
+        .collect();
+    create_view_cones_at_levels(points, poses, camera, &levels, costs, line_of_sight)
+}
+
+/// [`create_view_cones_costed`] with a detection range of its own at each zoom level
+/// (`levels`: the zoom and the range at that zoom), for a detector whose zoomed reach is
+/// measured rather than taken as the zoom times the unzoomed one (a zoomed look sees a
+/// farther, busier scene: Sjöö et al. `004` §4.2).
+pub fn create_view_cones_at_levels(
+    points: &[[f64; 3]],
+    poses: &[[f64; 3]],
+    camera: &CameraModel,
+    levels: &[(f64, DetectionRange)],
+    costs: CoverOptions,
+    line_of_sight: impl Fn([f64; 3], [f64; 3]) -> bool,
+) -> Result<ViewConePlan> {
+    let bad = |field: &'static str, message: String| ViewError::InvalidInput { field, message };
     if points.iter().flatten().any(|v| !v.is_finite()) {
         return Err(bad("points", "coordinates must be finite".into()));
     }
@@ -223,7 +259,10 @@ pub fn create_view_cones_costed(
             "pan/tilt limits must be finite [min, max] pairs and the height finite".into(),
         ));
     }
-    if !(range.min >= 0.0 && range.max > range.min && range.max.is_finite()) {
+    if let Some((_, range)) = levels
+        .iter()
+        .find(|(_, r)| !(r.min >= 0.0 && r.max > r.min && r.max.is_finite()))
+    {
         return Err(bad(
             "range",
             format!(
@@ -232,7 +271,8 @@ pub fn create_view_cones_costed(
             ),
         ));
     }
-    if zooms.is_empty() || zooms.iter().any(|z| !(z.is_finite() && *z >= 1.0)) {
+    if levels.is_empty() || levels.iter().any(|(z, _)| !(z.is_finite() && *z >= 1.0)) {
+        let zooms: Vec<f64> = levels.iter().map(|l| l.0).collect();
         return Err(bad(
             "zooms",
             format!("expected one or more zoom levels, each a number ≥ 1, got {zooms:?}"),
@@ -254,14 +294,14 @@ pub fn create_view_cones_costed(
             ),
         ));
     }
-    let mut levels = zooms.to_vec();
-    levels.sort_by(f64::total_cmp);
-    levels.dedup();
+    let mut levels = levels.to_vec();
+    levels.sort_by(|a, b| a.0.total_cmp(&b.0));
+    levels.dedup_by(|a, b| a.0 == b.0);
     // Candidate views with their coverage, zoom level by zoom level; a level's candidates
     // cover only what the lower levels' candidates cannot.
     let mut candidates: Vec<Candidate> = Vec::new();
     let mut coverable = vec![false; points.len()];
-    for &zoom in &levels {
+    for &(zoom, range) in &levels {
         let wanted: Vec<usize> = (0..points.len()).filter(|&k| !coverable[k]).collect();
         if wanted.is_empty() {
             break;
@@ -376,7 +416,7 @@ fn zoom_candidates(
     out: &mut Vec<Candidate>,
 ) {
     let (hfov, vfov) = (c.hfov / zoom, c.vfov / zoom);
-    let (d_min, d_max) = (range.min * zoom, range.max * zoom);
+    let (d_min, d_max) = (range.min, range.max);
     // A pan range beyond a full turn, or tilts beyond straight up/down, add no new directions.
     let pan_hi = c.pan_limits[1].min(c.pan_limits[0] + 2.0 * PI);
     let pans = angle_steps(c.pan_limits[0], pan_hi, hfov / 2.0);

@@ -66,8 +66,8 @@ pub mod surface;
 pub mod zoom;
 
 pub use cover::{
-    create_view_cones, create_view_cones_costed, create_view_cones_zoomed, CameraModel,
-    CoverOptions, DetectionRange, PlannedView, ViewConePlan,
+    create_view_cones, create_view_cones_at_levels, create_view_cones_costed,
+    create_view_cones_zoomed, CameraModel, CoverOptions, DetectionRange, PlannedView, ViewConePlan,
 };
 pub use error::{Result, ViewError};
 pub use heights::search_heights;

@@ -1,8 +1,8 @@
 //! CREATEVIEWCONES: coverage under field of view, distance limits and line of sight.
 
 use avs_view::{
-    create_view_cones, create_view_cones_costed, create_view_cones_zoomed, CameraModel,
-    CoverOptions, DetectionRange,
+    create_view_cones, create_view_cones_at_levels, create_view_cones_costed,
+    create_view_cones_zoomed, CameraModel, CoverOptions, DetectionRange,
 };
 use std::f64::consts::PI;
 
@@ -275,6 +275,81 @@ fn zoomed_views_cover_the_floor_where_no_unzoomed_view_reaches_a_small_object() 
     for (k, seen) in seen.iter().enumerate() {
         assert!(*seen || flat.uncovered.contains(&k), "point {k} lost");
     }
+}
+
+#[test]
+fn levels_at_the_zoom_times_the_unzoomed_range_plan_exactly_the_zoomed_views() {
+    let pts = room_points();
+    let poses = [[1.0, 2.0, 0.0], [3.0, 2.0, 0.0], [5.0, 2.0, 0.0]];
+    let range = DetectionRange { min: 0.3, max: 0.9 };
+    let zooms = [1.0, 2.0, 4.0];
+    let levels: Vec<(f64, DetectionRange)> = zooms
+        .iter()
+        .map(|&z| {
+            (
+                z,
+                DetectionRange {
+                    min: range.min * z,
+                    max: range.max * z,
+                },
+            )
+        })
+        .collect();
+    let costs = CoverOptions::VIEWS_ONLY;
+    let a = create_view_cones_costed(&pts, &poses, &camera(), range, &zooms, costs, |_, _| true)
+        .unwrap();
+    let b =
+        create_view_cones_at_levels(&pts, &poses, &camera(), &levels, costs, |_, _| true).unwrap();
+    assert_eq!(a, b);
+    assert!(a.views.iter().any(|v| v.zoom > 1.0), "{a:?}");
+}
+
+#[test]
+fn a_measured_zoomed_range_shorter_than_the_scaled_one_is_the_one_planned_with() {
+    // Zoom 4 measured to reach 2 m, not the 3.6 m the unzoomed 0.9 m would scale to: no
+    // zoomed view claims a point beyond 2 m, and the room is covered less.
+    let pts = room_points();
+    let poses = [[1.0, 2.0, 0.0], [5.0, 2.0, 0.0]];
+    let cam = camera();
+    let unzoomed = DetectionRange { min: 0.3, max: 0.9 };
+    let measured = DetectionRange { min: 1.0, max: 2.0 };
+    let costs = CoverOptions::VIEWS_ONLY;
+    let scaled =
+        create_view_cones_costed(&pts, &poses, &cam, unzoomed, &[1.0, 4.0], costs, |_, _| {
+            true
+        })
+        .unwrap();
+    let plan = create_view_cones_at_levels(
+        &pts,
+        &poses,
+        &cam,
+        &[(1.0, unzoomed), (4.0, measured)],
+        costs,
+        |_, _| true,
+    )
+    .unwrap();
+    for v in plan.views.iter().filter(|v| v.zoom == 4.0) {
+        let at_zoom = CameraModel {
+            hfov: cam.hfov / 4.0,
+            vfov: cam.vfov / 4.0,
+            ..cam
+        };
+        for &k in &v.covered {
+            assert!(sees(v, &at_zoom, measured, pts[k]), "point {k} from {v:?}");
+        }
+    }
+    assert!(plan.views.iter().any(|v| v.zoom == 4.0), "{plan:?}");
+    assert!(
+        plan.covered_share < scaled.covered_share,
+        "{} vs {}",
+        plan.covered_share,
+        scaled.covered_share
+    );
+    // A level with an empty range is refused, naming the field.
+    let bad = DetectionRange { min: 2.0, max: 1.0 };
+    let e = create_view_cones_at_levels(&pts, &poses, &cam, &[(1.0, bad)], costs, |_, _| true)
+        .unwrap_err();
+    assert!(e.to_string().contains("range"), "{e}");
 }
 
 #[test]

@@ -11,8 +11,8 @@ use avs_map::grid::Cell;
 use avs_map::places::dist;
 use avs_robot::Camera;
 use avs_view::{
-    create_view_cones_costed, lattice_step, search_heights, sight_clear, CameraModel, CoverOptions,
-    DetectionRange, PlannedView, SightLine,
+    create_view_cones_at_levels, lattice_step, search_heights, sight_clear, CameraModel,
+    CoverOptions, DetectionRange, PlannedView, SightLine,
 };
 use std::collections::BTreeSet;
 
@@ -140,6 +140,8 @@ pub(crate) fn plan_cones(
     let grid = &mem.grid;
     let in_room = |x: f64, y: f64, r: u64| mem.room_at([x, y]) == Some(RoomId(r));
     let points = points.unwrap_or_else(|| location_points(cx, mem, class, loc));
+    let levels = range_levels(cx, class, zooms);
+    let farthest = levels.iter().map(|(_, r)| r.max).fold(0.0, f64::max);
     // A landmark is looked at from within its detection reach and from inside its own room:
     // the disc its top may occupy (`avs_view::Surface`) reaches through the wall behind a
     // counter or desk standing against it, and a sight line that may skip the disc would look
@@ -154,11 +156,7 @@ pub(crate) fn plan_cones(
                 .class(&o.class)
                 .map_or(0.6, |c| 0.5 * c.size[0].hypot(c.size[1]));
             let home = mem.room_around([o.pos.x, o.pos.y], half + 0.5);
-            (
-                Some([o.pos.x, o.pos.y]),
-                detection_range(cx, class)[1] + 0.5,
-                home,
-            )
+            (Some([o.pos.x, o.pos.y]), farthest + 0.5, home)
         }
     };
     // A landmark's top is small: poses on a finer grid, so that one lies near the middle of a
@@ -187,13 +185,6 @@ pub(crate) fn plan_cones(
         pan_limits: cam.pan_limits,
         tilt_limits: cam.tilt_limits,
         height: cam.height,
-    };
-    // Likewise only the nearer part of the detection range: at its far end the detector
-    // misses most of the time.
-    let [near, far] = detection_range(cx, class);
-    let range = DetectionRange {
-        min: near,
-        max: near + t.cover_range_share * (far - near),
     };
     // The grid holds furniture footprints: stop the sight line short of the target point,
     // or where it reaches the top the point rests on.
@@ -225,7 +216,7 @@ pub(crate) fn plan_cones(
             per_metre: cx.config.travel_cost_per_m,
             from: Some(mem.at),
         };
-        create_view_cones_costed(&points, &poses, &camera, range, zooms, costs, los).ok()
+        create_view_cones_at_levels(&points, &poses, &camera, &levels, costs, los).ok()
     };
     Some(match planned {
         Some(mut p) => {
@@ -281,6 +272,39 @@ pub(crate) fn room_points(
         }
     }
     pts
+}
+
+/// The zoom levels a CREATEVIEWCONES for `class` plans with, each with the distances at which
+/// its views count a point covered: the levels `zooms`, and with a measured sensing
+/// ([`crate::AgentConfig::measured_sensing`], the zoom pipeline's) every level it was measured
+/// at too, each with its measured range — a zoomed look of the pipeline reaches less than the
+/// zoom times its unzoomed range, and a class whose unzoomed range is short (a marker: 0.25–
+/// 0.75 m) is looked for from afar only through the zoom. Otherwise a level's range is the
+/// zoom times the unzoomed one. Of each range only the nearer part counts: at its far end the
+/// detector misses most of the time ([`Tuning::cover_range_share`](crate::config::Tuning)).
+fn range_levels(cx: Ctx, class: &ObjectClass, zooms: &[f64]) -> Vec<(f64, DetectionRange)> {
+    let share = cx.tuning().cover_range_share;
+    let measured = cx.config.sensing(&class.name);
+    let mut levels: Vec<f64> = zooms.to_vec();
+    levels.extend(
+        measured
+            .iter()
+            .flat_map(|m| m.ranges_by_zoom.iter().map(|l| l.0)),
+    );
+    levels.sort_by(f64::total_cmp);
+    levels.dedup();
+    levels
+        .into_iter()
+        .map(|z| {
+            let near_part = |[near, far]: [f64; 2]| [near, near + share * (far - near)];
+            let [min, max] = match measured.and_then(|m| m.ranges_by_zoom.iter().find(|l| l.0 == z))
+            {
+                Some(l) => near_part(l.1),
+                None => near_part(detection_range(cx, class)).map(|d| d * z),
+            };
+            (z, DetectionRange { min, max })
+        })
+        .collect()
 }
 
 /// The zoom of a view as the trace shows it: nothing for none.

@@ -15,7 +15,8 @@ use avs_view::{sight_clear, SightLine};
 /// Verify a sighting before reporting it: from the reachable point nearest the robot at the
 /// middle of the class's recognition range, with a clear line of sight, look through views
 /// centred on the sighting, zoomed so that it lies in the middle of the (zoom-scaled)
-/// recognition range when no nearer viewpoint could be reached. `verify_hits` detections of
+/// recognition range when no nearer viewpoint could be reached (with measured sensing, through
+/// the measured zoom level that reaches it, [`crate::config::MeasuredSensing::zoom_at`]). `verify_hits` detections of
 /// the class within `confirm_radius` of the sighting in at most `verify_looks` looks confirm
 /// it (the best of them, measured closer, is the pose reported). With the knowledge's miss
 /// rate 0.2 a real object passes with 0.90; a look-alike that fires one look in four with
@@ -105,9 +106,17 @@ pub(crate) fn count_rule<R: Robot + ?Sized>(
         let (pan, tilt) = cam.aim(pose, d.pose);
         looks += 1;
         // Zoom in so that the sighting lies in the middle of the recognition range (Sjöö
-        // et al., §3.4: the distance interval scales with the zoom).
+        // et al., §3.4: the distance interval scales with the zoom); with measured sensing
+        // (the zoom pipeline's), through the measured level that reaches it best — a zoomed
+        // look of the pipeline does not reach the zoom times its unzoomed range.
         let mid = 0.5 * (class.recognition_range[0] + class.recognition_range[1]);
-        let zoom = (dx.hypot(dy).hypot(dz) / mid.max(1e-3)).clamp(1.0, cam.max_zoom.max(1.0));
+        let away = dx.hypot(dy).hypot(dz);
+        let zoom = cx
+            .config
+            .sensing(label)
+            .and_then(|m| m.zoom_at(away))
+            .unwrap_or(away / mid.max(1e-3))
+            .clamp(1.0, cam.max_zoom.max(1.0));
         let seen = body
             .look(
                 &ViewCone::new(pose, pan, tilt, zoom),
