@@ -344,9 +344,12 @@ fn main_loop<R: Robot + ?Sized>(
             run.finished(step.display.clone(), outcome, body, mem);
             match end {
                 StepEnd::Found(f) => {
-                    run.emit(Event::ActionStarted {
-                        action: format!("REPORTPOSITION {}", f.name),
-                    });
+                    // The plan's own REPORTPOSITION step is already in the trace.
+                    if !matches!(actions[i], Ok(Action::Report { .. })) {
+                        run.emit(Event::ActionStarted {
+                            action: format!("REPORTPOSITION {}", f.name),
+                        });
+                    }
                     return Ok(Ok(f));
                 }
                 StepEnd::Replan(r) => {
@@ -508,7 +511,22 @@ fn execute<R: Robot + ?Sized>(
             };
             dt_search(cx, mem, body, run, &search, goal)
         }
-        Action::Report { object } => Ok(StepEnd::Replan(ReplanReason::NotFound { object })),
+        // A known object of the goal's class (a landmark the look around found, an object an
+        // earlier goal found) is reported where it is; nothing else can have been found.
+        Action::Report { object, known } => Ok(
+            match known
+                .and_then(|k| mem.objects.get(k))
+                .filter(|o| o.class == goal.class)
+            {
+                Some(o) => StepEnd::Found(FoundObject {
+                    name: object,
+                    class: o.class.clone(),
+                    pose: o.pos,
+                    confidence: o.confidence,
+                }),
+                None => StepEnd::Replan(ReplanReason::NotFound { object }),
+            },
+        ),
     }
 }
 
@@ -649,6 +667,28 @@ mod tests {
             "{}",
             text(&alone)
         );
+    }
+
+    #[test]
+    fn an_object_the_agent_already_knows_is_reported_by_one_plan_not_planned_again_and_again() {
+        let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
+        robot.place(testing::object("cerealbox", 3.6, 2.8, 0.14));
+        let mut agent = Agent::new(domain(), testing::knowledge(), AgentConfig::default()).unwrap();
+        let first = agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
+        assert!(first.found.is_some());
+        // The same class again: the known cereal box is the goal's object.
+        let again = agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
+        let text = crate::trace::render_text(&again.trace);
+        let f = again.found.as_ref().unwrap_or_else(|| panic!("{text}"));
+        assert!(f.pose.planar_distance(3.6, 2.8) < 1e-9, "{text}");
+        assert_eq!(f.name, first.found.unwrap().name, "{text}");
+        assert_eq!(
+            (again.metrics.plans, again.metrics.dt_sessions),
+            (1, 0),
+            "{text}"
+        );
+        assert!(!text.contains("was not found"), "{text}");
+        assert_eq!(text.matches("> REPORTPOSITION").count(), 1, "{text}");
     }
 
     #[test]

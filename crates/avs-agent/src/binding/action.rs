@@ -49,8 +49,12 @@ pub(crate) enum Action {
         /// The step's listing line.
         display: String,
     },
-    /// REPORTPOSITION of an object (reached only when it was not found).
-    Report { object: String },
+    /// REPORTPOSITION of an object: a known one (`known`, its index in the memory's objects)
+    /// is reported where it was found; a virtual one was not found, and the plan is wrong.
+    Report {
+        object: String,
+        known: Option<usize>,
+    },
 }
 
 /// The operators the executive runs, with their arities (the domain's parameter counts).
@@ -320,6 +324,7 @@ impl Binding {
             }),
             ("reportposition", [o, _]) => Ok(Action::Report {
                 object: o.to_string(),
+                known: self.objects.get(*o).copied(),
             }),
             _ => Err(ReplanReason::CannotExecute {
                 step: step.display.clone(),

@@ -46,6 +46,8 @@ pub(crate) struct Known {
     /// Whether a look around has counted it as object-count evidence (each instance counts
     /// once; one found by a search is counted by the first look around that sees it).
     pub counted: bool,
+    /// The detector's confidence in the sighting that found it.
+    pub confidence: f64,
 }
 
 /// Where view cones are planned: a room, or on or in a known object (index into the
@@ -352,22 +354,32 @@ impl Memory {
         }
     }
 
-    /// File a verified object of `class` at `pos` found outside a landmark search (not a
-    /// landmark, on nothing known) under the place it lies at, or the robot's; its index in
-    /// [`Memory::objects`], `None` when no place has a room yet.
-    pub fn file_found(&mut self, class: &str, pos: Point3) -> Option<usize> {
+    /// File a verified sighting `d` of `class` found outside a landmark search (not a
+    /// landmark, on nothing known) under the place it lies at, or the robot's, and return it
+    /// as the goal's object. It is not filed when no place has a room yet; the report names
+    /// it all the same.
+    pub fn file_found(&mut self, class: &str, d: &Detection) -> crate::report::FoundObject {
+        let k = self.objects.len();
         let place = self
-            .object_place([pos.x, pos.y])
-            .or_else(|| self.current_place())?;
-        self.objects.push(Known {
+            .object_place([d.pose.x, d.pose.y])
+            .or_else(|| self.current_place());
+        if let Some(place) = place {
+            self.objects.push(Known {
+                class: class.to_string(),
+                pos: d.pose,
+                place,
+                landmark: None,
+                on: None,
+                counted: false,
+                confidence: d.confidence,
+            });
+        }
+        crate::report::FoundObject {
+            name: crate::binding::names::object(k),
             class: class.to_string(),
-            pos,
-            place,
-            landmark: None,
-            on: None,
-            counted: false,
-        });
-        Some(self.objects.len() - 1)
+            pose: d.pose,
+            confidence: d.confidence,
+        }
     }
 
     /// The place an object at `p` is filed under: the nearest place of the room it lies in.

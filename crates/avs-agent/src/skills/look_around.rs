@@ -126,6 +126,7 @@ pub(crate) fn look_around<R: Robot + ?Sized>(
             landmark: Some(lm),
             on: None,
             counted: true,
+            confidence: d.confidence,
         });
     }
     for (c, n) in &new {

@@ -292,6 +292,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                 landmark,
                 on,
                 counted: false,
+                confidence: d.confidence,
             });
             let name = names::object(k);
             if let Some(a) = &search.assumption {

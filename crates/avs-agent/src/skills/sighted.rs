@@ -9,7 +9,6 @@
 
 use super::verify::verify;
 use super::Ctx;
-use crate::binding::names;
 use crate::body::Body;
 use crate::memory::Memory;
 use crate::report::{Activity, FoundObject};
@@ -58,14 +57,7 @@ pub(crate) fn verify_sightings<R: Robot + ?Sized>(
             verify(cx, mem, b, run, class, &d)
         })?;
         if let Some(v) = confirmed {
-            let k = mem.objects.len();
-            mem.file_found(class, v.pose);
-            return Ok(Some(FoundObject {
-                name: names::object(k),
-                class: class.to_string(),
-                pose: v.pose,
-                confidence: v.confidence,
-            }));
+            return Ok(Some(mem.file_found(class, &v)));
         }
     }
     Ok(None)

@@ -443,6 +443,7 @@ mod planning_tests {
             landmark: None,
             on: None,
             counted: true,
+            confidence: 1.0,
         });
         let k_counter = mem.objects.len() - 1;
         let cam = avs_robot::Robot::camera(&robot);

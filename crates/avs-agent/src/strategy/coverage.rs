@@ -446,14 +446,7 @@ fn process_views<R: Robot + ?Sized>(
         };
         run.finished(action, outcome, body, mem);
         if let Some(d) = confirmed {
-            let k = mem.objects.len();
-            mem.file_found(label, d.pose);
-            return Ok(Some(FoundObject {
-                name: names::object(k),
-                class: label.to_string(),
-                pose: d.pose,
-                confidence: d.confidence,
-            }));
+            return Ok(Some(mem.file_found(label, &d)));
         }
     }
     Ok(None)
