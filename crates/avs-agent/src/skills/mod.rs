@@ -1,5 +1,6 @@
-//! The agent's skills, one per module, each a function over the [`Memory`], the
-//! [`Body`](crate::body::Body) and the [`Run`](crate::run::Run) of a search:
+//! The agent's skills, one per module, each a function over the
+//! [`Memory`](crate::memory::Memory), the [`Body`](crate::body::Body) and the
+//! [`Run`](crate::run::Run) of a search:
 //!
 //! * [`look_around`] — pan the camera round for landmarks on entering a room (evidence on the
 //!   room's category, locations for indirect search);

@@ -107,16 +107,6 @@ pub(crate) fn interior_levels(h: f64, object_h: f64) -> Vec<f64> {
         .collect()
 }
 
-/// View planning for `label` at `loc` (CREATEVIEWCONES, Sjöö et al. `004` §2.1): cones
-/// covering `points`, or the location's own points when `None`, with views at the zoom
-/// levels `zooms`; at most [`AgentConfig::max_cones`](crate::AgentConfig::max_cones) of them.
-/// `None` for an unknown class.
-///
-/// The plan's searches keep the paper's unzoomed views (`&[1.0]`): their points are the
-/// tops of the surfaces the knowledge names, within unzoomed range of some pose. The
-/// coverage before giving up also looks at the floor, where a small object is beyond its
-/// unzoomed range wherever the camera's tilt limit lets it look, and plans with
-/// [`view_zooms`](avs_view::view_zooms).
 /// The distances at which a look detects `class` at zoom 1: measured
 /// ([`crate::AgentConfig::measured_sensing`]) when the configuration has it, the knowledge's
 /// `detection_range` otherwise.
@@ -126,6 +116,17 @@ fn detection_range(cx: Ctx, class: &avs_format::knowledge::ObjectClass) -> [f64;
         .map_or(class.detection_range, |m| m.detection_range)
 }
 
+/// View planning for `label` at `loc` (CREATEVIEWCONES, Sjöö et al. `004` §2.1): cones
+/// covering `points`, or the location's own points when `None`, with views at the zoom
+/// levels `zooms` (and at the measured levels, [`range_levels`]); at most
+/// [`AgentConfig::max_cones`](crate::AgentConfig::max_cones) of them. `None` for an unknown
+/// class.
+///
+/// The plan's searches keep the paper's unzoomed views (`&[1.0]`) unless the zoom pipeline's
+/// sensing was measured: their points are the tops of the surfaces the knowledge names,
+/// within unzoomed range of some pose. The coverage before giving up also looks at the
+/// floor, where a small object is beyond its unzoomed range wherever the camera's tilt limit
+/// lets it look, and plans with [`view_zooms`](avs_view::view_zooms).
 pub(crate) fn plan_cones(
     cx: Ctx,
     mem: &Memory,
@@ -140,7 +141,7 @@ pub(crate) fn plan_cones(
     let grid = &mem.grid;
     let in_room = |x: f64, y: f64, r: u64| mem.room_at([x, y]) == Some(RoomId(r));
     let points = points.unwrap_or_else(|| location_points(cx, mem, class, loc));
-    let levels = range_levels(cx, class, zooms);
+    let levels = range_levels(cx, class, zooms, cam.max_zoom);
     let farthest = levels.iter().map(|(_, r)| r.max).fold(0.0, f64::max);
     // A landmark is looked at from within its detection reach and from inside its own room:
     // the disc its top may occupy (`avs_view::Surface`) reaches through the wall behind a
@@ -282,14 +283,21 @@ pub(crate) fn room_points(
 /// 0.75 m) is looked for from afar only through the zoom. Otherwise a level's range is the
 /// zoom times the unzoomed one. Of each range only the nearer part counts: at its far end the
 /// detector misses most of the time ([`Tuning::cover_range_share`](crate::config::Tuning)).
-fn range_levels(cx: Ctx, class: &ObjectClass, zooms: &[f64]) -> Vec<(f64, DetectionRange)> {
+/// Measured levels beyond the camera's `max_zoom` are left out.
+fn range_levels(
+    cx: Ctx,
+    class: &ObjectClass,
+    zooms: &[f64],
+    max_zoom: f64,
+) -> Vec<(f64, DetectionRange)> {
     let share = cx.tuning().cover_range_share;
     let measured = cx.config.sensing(&class.name);
     let mut levels: Vec<f64> = zooms.to_vec();
     levels.extend(
         measured
             .iter()
-            .flat_map(|m| m.ranges_by_zoom.iter().map(|l| l.0)),
+            .flat_map(|m| m.ranges_by_zoom.iter().map(|l| l.0))
+            .filter(|&z| z <= max_zoom.max(1.0)),
     );
     levels.sort_by(f64::total_cmp);
     levels.dedup();
