@@ -15,10 +15,11 @@ use avs_view::{sight_clear, SightLine};
 /// Verify a sighting before reporting it: from the reachable point nearest the robot at the
 /// middle of the class's recognition range, with a clear line of sight, look through views
 /// centred on the sighting, zoomed so that it lies in the middle of the (zoom-scaled)
-/// recognition range when no nearer viewpoint could be reached (with measured sensing, through
-/// the measured zoom level that reaches it, [`crate::config::MeasuredSensing::zoom_at`]). `verify_hits` detections of
-/// the class within `confirm_radius` of the sighting in at most `verify_looks` looks confirm
-/// it (the best of them, measured closer, is the pose reported). With the knowledge's miss
+/// recognition range when no nearer viewpoint could be reached (with measured sensing,
+/// through the measured zoom level that reaches it,
+/// [`crate::config::MeasuredSensing::zoom_at`]). `verify_hits` detections of the class within
+/// `confirm_radius` of the sighting in at most `verify_looks` looks confirm it (the best of
+/// them, measured closer, is the pose reported). With the knowledge's miss
 /// rate 0.2 a real object passes with 0.90; a look-alike that fires one look in four with
 /// 0.16.
 pub(crate) fn count_rule<R: Robot + ?Sized>(
