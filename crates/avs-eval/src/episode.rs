@@ -189,7 +189,7 @@ pub fn run_episode(
     let mut sink = |e: &Event| on_event(e);
     // The goal's own search is the last; with `find_all`, a `before` class that is the goal
     // is sought there.
-    let mut goals = if spec.find_all {
+    let mut goals: Vec<Goal> = if spec.find_all {
         Goal::find_all(
             spec.before
                 .iter()
@@ -198,12 +198,13 @@ pub fn run_episode(
                 .chain([spec.goal]),
         )
     } else {
-        spec.before.iter().map(|c| Goal::find(c)).collect()
+        spec.before
+            .iter()
+            .map(|c| Goal::find(c))
+            .chain([Goal::find(spec.goal)])
+            .collect()
     };
-    let mut goal = Goal::find(spec.goal);
-    if spec.find_all {
-        goal = goals.pop().unwrap_or(goal);
-    }
+    let mut goal = goals.pop().unwrap_or_else(|| Goal::find(spec.goal));
     for g in goals {
         agent.search_with(&mut robot, g, &mut sink)?;
     }
