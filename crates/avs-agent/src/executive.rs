@@ -87,6 +87,16 @@ impl Agent {
         self.memory.as_ref().map(|m| &m.wm.places)
     }
 
+    /// What the agent believes now, with object probabilities for `class` (see
+    /// [`Beliefs`](crate::Beliefs)); `None` before the first search. Between searches these are
+    /// the beliefs the last search left; during one, a [`TraceSink`] that
+    /// [wants them](TraceSink::wants_beliefs) is handed them before every plan.
+    pub fn beliefs(&self, class: Option<&str>) -> Option<crate::Beliefs> {
+        self.memory
+            .as_ref()
+            .map(|m| crate::beliefs::beliefs_of(m, &self.knowledge, class))
+    }
+
     /// Search for `goal` with `robot`; the trace is returned in the report.
     pub fn search<R: Robot + ?Sized>(
         &mut self,
@@ -200,6 +210,7 @@ impl Agent {
             (None, s) => baseline_loop(cx, mem, &mut body, &mut run, &goal, s)?,
         };
         mem.note_sightings(body.take_sightings(), cx.config.min_confidence);
+        run.beliefs(mem, cx.knowledge, &goal.class);
         let (found, reason, gave_up) = match end {
             Ok(f) => {
                 let r = run.goal_reached(&f);
@@ -260,6 +271,9 @@ fn main_loop<R: Robot + ?Sized>(
     let mut reason = ReplanReason::Initial;
     let (fnr, p_min) = (cx.knowledge.sensor.false_negative, cx.tuning().p_min);
     loop {
+        if run.stop_requested() {
+            return Ok(Err(GiveUpReason::Cancelled));
+        }
         if let Some(r) = body.cannot_move(cx.tuning().stuck_motions) {
             return Ok(Err(r));
         }
@@ -270,6 +284,7 @@ fn main_loop<R: Robot + ?Sized>(
             };
             return last_resort(cx, mem, body, run, goal, r);
         }
+        run.beliefs(mem, cx.knowledge, &goal.class);
         let binding = Binding::of(mem, cx.knowledge, &goal.class);
         let t0 = Instant::now();
         let decision = {
@@ -319,6 +334,9 @@ fn main_loop<R: Robot + ?Sized>(
                 a => a.clone(),
             };
             let step = &plan.steps[i];
+            if run.stop_requested() {
+                return Ok(Err(GiveUpReason::Cancelled));
+            }
             if run.metrics.actions >= cx.config.max_actions {
                 return Ok(Err(GiveUpReason::ActionBudget {
                     actions: run.metrics.actions,

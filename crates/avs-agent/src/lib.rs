@@ -22,6 +22,7 @@
 //! | [`config`] | [`AgentConfig`], [`Strategy`], [`Tuning`] (every constant of the executive, with its reason) |
 //! | [`reason`] | [`ReplanReason`], [`GiveUpReason`]: why it replans, why it gives up |
 //! | [`report`], [`trace`] | what a search returns; the plan trace as events, text and JSON lines |
+//! | [`beliefs`] | what the agent believes now (rooms, placeholders, doors, objects, P(ObjectAt L)), as plain data |
 //!
 //! One call per goal: [`Agent::search`] keeps the maps current from robot feedback, asks the
 //! assumptive continual planner (`avs-plan`) for the plan minimising cost(π) + R·(1 − p(π)),
@@ -274,6 +275,7 @@
 //!   verification and no prior knowledge (module `strategy`).
 //! * **Determinism.** Trace events carry no wall-clock times; with the planner's default expansion
 //!   budgets and a seeded robot, the same seed gives byte-identical JSON lines.
+pub mod beliefs;
 mod binding;
 mod body;
 pub mod config;
@@ -288,6 +290,7 @@ mod strategy;
 pub mod trace;
 pub mod world_model;
 
+pub use beliefs::Beliefs;
 pub use config::{AgentConfig, MeasuredSensing, Strategy, Tuning};
 pub use error::AgentError;
 pub use executive::Agent;

@@ -217,6 +217,8 @@ pub enum GiveUpReason {
     PlannerFailed(String),
     /// The goal already holds (nothing to do).
     GoalAlreadyHolds,
+    /// Whoever started the search asked it to stop ([`crate::TraceSink::stop_requested`]).
+    Cancelled,
     /// The coverage looked everywhere it could reach.
     Covered {
         /// How often every room was covered.
@@ -404,6 +406,7 @@ impl fmt::Display for GiveUpReason {
             Self::Planner(g) => write!(f, "{g}"),
             Self::PlannerFailed(e) => write!(f, "the planner failed: {e}"),
             Self::GoalAlreadyHolds => f.write_str("the goal already holds"),
+            Self::Cancelled => f.write_str("the search was cancelled"),
             Self::CannotMove { failures, last } => write!(
                 f,
                 "gave up: the robot cannot move ({failures} motions in a row failed where it stood; the last: {last})"

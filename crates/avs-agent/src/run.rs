@@ -140,6 +140,25 @@ impl<'s> Run<'s> {
         }
     }
 
+    /// Whether the search's sink asked it to stop ([`TraceSink::stop_requested`]).
+    pub fn stop_requested(&mut self) -> bool {
+        self.sink.stop_requested()
+    }
+
+    /// Hand the beliefs in `mem` (object probabilities for `class`) to the sink, when it
+    /// wants them ([`TraceSink::wants_beliefs`]).
+    pub fn beliefs(
+        &mut self,
+        mem: &Memory,
+        knowledge: &avs_format::knowledge::Knowledge,
+        class: &str,
+    ) {
+        if self.sink.wants_beliefs() {
+            let b = crate::beliefs::beliefs_of(mem, knowledge, Some(class));
+            self.sink.beliefs(&b);
+        }
+    }
+
     /// Emit an observation.
     pub fn observe(&mut self, what: String) {
         self.emit(Event::Observed { what });

@@ -453,10 +453,33 @@ impl Event {
     }
 }
 
-/// A receiver of trace events as they happen (e.g. a printer that flushes each line).
+/// The observer of a search: receives its trace events as they happen (e.g. a printer that
+/// flushes each line) and, when it asks for them, the agent's beliefs before every plan; it
+/// may ask the search to stop (a service cancelling a goal). A closure `FnMut(&Event)` is a
+/// sink that only receives events.
 pub trait TraceSink {
     /// Called once per event, in order.
     fn event(&mut self, e: &Event);
+
+    /// Whether [`TraceSink::beliefs`] should be called: building the beliefs costs a pass over
+    /// the conceptual map, so a sink that does not show them is not handed any.
+    fn wants_beliefs(&self) -> bool {
+        false
+    }
+
+    /// The agent's beliefs as they stand before each plan and at the end of the search
+    /// (called only when [`TraceSink::wants_beliefs`]).
+    fn beliefs(&mut self, b: &crate::beliefs::Beliefs) {
+        let _ = b;
+    }
+
+    /// Asked before every plan and every action of the plan or the coverage: `true` ends the
+    /// search at once with [`GiveUpReason::Cancelled`](crate::GiveUpReason::Cancelled). An
+    /// action already under way is the robot's to end (a service fails its outstanding
+    /// requests).
+    fn stop_requested(&mut self) -> bool {
+        false
+    }
 }
 
 impl<F: FnMut(&Event)> TraceSink for F {

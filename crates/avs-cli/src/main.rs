@@ -33,6 +33,9 @@ enum Command {
     Examples(cmd::examples::Args),
     /// Benchmark a search strategy on generated floors (success rate, SPL, path length).
     Bench(cmd::bench::Args),
+    /// Run the search agent as a service: sessions, goals, a remote-robot protocol, traces,
+    /// beliefs, snapshots and a live web page (docs/SERVICE.md).
+    Serve(cmd::serve::Args),
     /// Check avs files (environment, knowledge, domain, scenario) and report every problem.
     Validate(cmd::validate::Args),
     /// Re-enact scenario files and print each expected property with PASS or FAIL.
@@ -95,6 +98,7 @@ fn main() -> ExitCode {
         Command::Search(a) => cmd::search::run(a),
         Command::Bench(a) => cmd::bench::run(a),
         Command::Validate(a) => cmd::validate::run(a),
+        Command::Serve(a) => cmd::serve::run(a),
         Command::Scenario(a) => cmd::scenario::run(a),
         Command::Schema(a) => cmd::schema::run(a),
         Command::Segment(a) => cmd::segment::run(a),

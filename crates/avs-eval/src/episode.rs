@@ -226,27 +226,67 @@ pub fn run_episode(
     let clock = std::time::Instant::now();
     let report = agent.search_with(&mut robot, goal, &mut sink)?;
     let compute_s = clock.elapsed().as_secs_f64();
-    // Scoring against ground truth (the agent never saw it).
+    let trail = robot.trail().to_vec();
+    let summary = summarize(
+        Some(world),
+        spec.goal,
+        start,
+        &report,
+        &trail[goal_from.min(trail.len())..],
+        compute_s,
+    );
+    Ok(Episode {
+        summary,
+        report,
+        trail,
+    })
+}
+
+/// The figures of one search for `goal` that started at `start` and drove along `trail`, as
+/// `avs search --json` prints them. With the `world` the robot searched in, the report is
+/// scored against its truth (found within 1 m, SPL, distance to the goal at the end, rooms
+/// visited); without one (a real robot, whose world the agent never saw whole), the figures
+/// that need the truth are `None` or 0 and `found` is the agent's own verdict.
+pub fn summarize(
+    world: Option<&World>,
+    goal: &str,
+    start: [f64; 2],
+    report: &SearchReport,
+    trail: &[[f64; 2]],
+    compute_s: f64,
+) -> Summary {
     let reported = report
         .found
         .as_ref()
         .map(|f| [f.pose.x, f.pose.y, f.pose.z]);
     let path = report.metrics.path_length;
-    let sc = score_from(world, spec.goal, start, reported, path);
-    let trail = robot.trail().to_vec();
-    let end = trail.last().copied().unwrap_or(origin);
-    let distance_to_goal = geodesic_to_class(world, spec.goal, end);
-    let (rooms_visited, room_revisits) = room_visits(world, &trail[goal_from.min(trail.len())..]);
-    let summary = Summary {
-        found: sc.found,
+    let end = trail.last().copied().unwrap_or(start);
+    let (found, error, shortest, spl, distance_to_goal, (rooms_visited, room_revisits)) =
+        match world {
+            Some(world) => {
+                // Scoring against ground truth (the agent never saw it).
+                let sc = score_from(world, goal, start, reported, path);
+                (
+                    sc.found,
+                    sc.error,
+                    sc.shortest_path_length,
+                    sc.spl,
+                    geodesic_to_class(world, goal, end),
+                    room_visits(world, trail),
+                )
+            }
+            None => (reported.is_some(), None, None, 0.0, None, (0, 0)),
+        };
+    Summary {
+        found,
         reported_pose: reported,
-        error: sc.error,
+        error,
         path_length: path,
-        shortest_path_length: sc.shortest_path_length,
-        spl: sc.spl,
-        wrong_report: reported.is_some() && !sc.found,
+        shortest_path_length: shortest,
+        spl,
+        wrong_report: reported.is_some() && !found,
         distance_to_goal,
-        soft_spl: soft_spl(sc.shortest_path_length, distance_to_goal, path),
+        soft_spl: soft_spl(shortest, distance_to_goal, path),
         path_by_activity: report.metrics.path_by_activity,
         rooms_visited,
         room_revisits,
@@ -263,12 +303,7 @@ pub fn run_episode(
         dt_ms_median: median(&report.metrics.dt_ms),
         compute_s,
         reason: report.reason.clone(),
-    };
-    Ok(Episode {
-        summary,
-        report,
-        trail,
-    })
+    }
 }
 
 /// Habitat's SoftSPL from the geodesic distances to the goal at the start and at the end and

@@ -54,6 +54,9 @@ pub(crate) fn cover_all<R: Robot + ?Sized>(
     };
     let mut pass = 1;
     loop {
+        if run.stop_requested() {
+            return Ok(Err(GiveUpReason::Cancelled));
+        }
         if let Some(r) = body.cannot_move(cx.tuning().stuck_motions) {
             return Ok(Err(r));
         }
@@ -308,6 +311,9 @@ fn cover_room<R: Robot + ?Sized>(
     let covered_share = cx.tuning().covered_share;
     let loc = ConeLoc::Room(room.0);
     loop {
+        if run.stop_requested() {
+            return Ok(None);
+        }
         let all = cover_points(cx, mem, room, &class);
         let todo: Vec<[f64; 3]> = all
             .iter()

@@ -14,6 +14,7 @@ pub mod scenario;
 pub mod schema;
 pub mod search;
 pub mod segment;
+pub mod serve;
 pub mod validate;
 pub mod verify;
 pub mod views;

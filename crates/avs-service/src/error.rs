@@ -1,0 +1,146 @@
+//! Errors as the API returns them: `{"error": {"code", "message", "field"?}}` with an HTTP
+//! status that says the same.
+
+use axum::http::StatusCode;
+use axum::response::{IntoResponse, Response};
+use serde::Serialize;
+use utoipa::ToSchema;
+
+/// What went wrong, by kind; the kind sets the HTTP status and the `code` word.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum ErrorCode {
+    /// The request is malformed (not JSON, a wrong type, an unknown key): 400.
+    BadRequest,
+    /// A file or value is well-formed but invalid (what `avs validate` refuses): 400.
+    InvalidInput,
+    /// No such session, goal or robot request: 404.
+    NotFound,
+    /// The request does not fit the state (a goal that already ended, a request already
+    /// answered): 409.
+    Conflict,
+    /// The server holds `--max-sessions` sessions already: 429.
+    TooManySessions,
+    /// A bearer token is required and was missing or wrong: 401.
+    Unauthorized,
+    /// A fault of the server: 500.
+    Internal,
+}
+
+impl ErrorCode {
+    /// The HTTP status of the kind.
+    pub fn status(self) -> StatusCode {
+        match self {
+            Self::BadRequest | Self::InvalidInput => StatusCode::BAD_REQUEST,
+            Self::NotFound => StatusCode::NOT_FOUND,
+            Self::Conflict => StatusCode::CONFLICT,
+            Self::TooManySessions => StatusCode::TOO_MANY_REQUESTS,
+            Self::Unauthorized => StatusCode::UNAUTHORIZED,
+            Self::Internal => StatusCode::INTERNAL_SERVER_ERROR,
+        }
+    }
+}
+
+/// The body of an error: `{"code", "message", "field"?}`.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct ErrorBody {
+    /// The kind.
+    pub code: ErrorCode,
+    /// What went wrong and what is expected, for a person.
+    pub message: String,
+    /// The request field at fault (a JSON path such as `knowledge` or `result.grid.data[3]`),
+    /// when one is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub field: Option<String>,
+}
+
+/// An error response: `{"error": ErrorBody}`.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema, thiserror::Error)]
+#[error("{}", error.message)]
+pub struct ApiError {
+    /// The error.
+    pub error: ErrorBody,
+}
+
+impl ApiError {
+    /// An error of kind `code`.
+    pub fn new(code: ErrorCode, message: impl Into<String>) -> Self {
+        Self {
+            error: ErrorBody {
+                code,
+                message: message.into(),
+                field: None,
+            },
+        }
+    }
+
+    /// The same error, naming the request field at fault.
+    pub fn field(mut self, field: impl Into<String>) -> Self {
+        self.error.field = Some(field.into());
+        self
+    }
+
+    /// `not_found`: no such `what` (e.g. `session s4`).
+    pub fn not_found(what: impl std::fmt::Display) -> Self {
+        Self::new(ErrorCode::NotFound, format!("no {what}"))
+    }
+
+    /// `invalid_input` about `field`.
+    pub fn invalid(field: impl Into<String>, message: impl Into<String>) -> Self {
+        Self::new(ErrorCode::InvalidInput, message).field(field)
+    }
+
+    /// `bad_request` about `field`.
+    pub fn bad_request(field: impl Into<String>, message: impl Into<String>) -> Self {
+        Self::new(ErrorCode::BadRequest, message).field(field)
+    }
+}
+
+impl IntoResponse for ApiError {
+    fn into_response(self) -> Response {
+        (self.error.code.status(), axum::Json(self)).into_response()
+    }
+}
+
+/// A request body read as JSON of type `T`, with errors that name the field (by
+/// `serde_path_to_error`) in the API's error shape.
+pub fn parse_json<T: serde::de::DeserializeOwned>(body: &[u8]) -> Result<T, ApiError> {
+    if body.iter().all(u8::is_ascii_whitespace) {
+        return Err(ApiError::new(
+            ErrorCode::BadRequest,
+            "the request body is empty; expected a JSON object",
+        ));
+    }
+    let de = &mut serde_json::Deserializer::from_slice(body);
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        let err = ApiError::new(ErrorCode::BadRequest, format!("invalid JSON: {inner}"));
+        if path == "." || path.is_empty() {
+            err
+        } else {
+            err.field(path)
+        }
+    })
+}
+
+/// A JSON value read as type `T`, with errors naming the field under `at` (a robot's
+/// answer, e.g. `result.detections[0].pose.x`).
+pub fn from_value<T: serde::de::DeserializeOwned>(
+    at: &str,
+    v: &serde_json::Value,
+) -> Result<T, ApiError> {
+    serde_path_to_error::deserialize(v).map_err(|e| {
+        let path = e.path().to_string();
+        let field = if path == "." || path.is_empty() {
+            at.to_string()
+        } else {
+            format!("{at}.{path}")
+        };
+        ApiError::new(
+            ErrorCode::BadRequest,
+            format!("{field}: {}", e.into_inner()),
+        )
+        .field(field)
+    })
+}
