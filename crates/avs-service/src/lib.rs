@@ -78,6 +78,9 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 use utoipa::OpenApi;
 
+/// The largest request body, bytes: a remote robot's map of a large floor or a snapshot.
+pub const MAX_BODY: usize = 256 << 20;
+
 /// How the service runs.
 #[derive(Debug, Clone)]
 pub struct ServiceConfig {
@@ -311,6 +314,8 @@ pub fn router(state: AppState) -> Router {
         state.clone(),
         authorise,
     ))
+    // A snapshot or a large map answer is more than the default 2 MB.
+    .layer(axum::extract::DefaultBodyLimit::max(MAX_BODY))
     .with_state(state)
 }
 

@@ -52,6 +52,8 @@ pub struct Live {
     pub trail: Vec<[f64; 2]>,
     /// The robot's map as last reported.
     pub grid: Option<OccupancyGrid>,
+    /// The doors the robot reported with it.
+    pub doors: Vec<avs_robot::DoorSighting>,
     /// The current plan's steps.
     pub plan: Vec<String>,
     /// The step under way.
@@ -88,6 +90,7 @@ impl Live {
             odometry: 0.0,
             trail: vec![[start.x, start.y]],
             grid: None,
+            doors: Vec::new(),
             plan: Vec::new(),
             step: None,
             cones: Vec::new(),

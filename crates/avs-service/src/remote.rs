@@ -568,3 +568,82 @@ fn unsupported(kind: &str) -> ActionFailure {
         format!("the remote robot did not declare the `{kind}` capability"),
     )
 }
+
+/// The arguments of a request that names a cone and classes.
+#[derive(Deserialize)]
+struct ConeArgs {
+    cone: ViewCone,
+    #[serde(default)]
+    classes: Vec<String>,
+    #[serde(default)]
+    class: String,
+    #[serde(default)]
+    at: Vec<Point3>,
+}
+
+/// Answer `request` with `robot`, as a client of the protocol would: the reference client of
+/// the remote-robot protocol, for Rust robot stacks (a [`Robot`] on the robot's side answers a
+/// server's requests with it) and for tests (a simulated robot behind the protocol must
+/// behave as the same robot driven in-process).
+pub fn answer_with(robot: &mut dyn Robot, request: &RobotRequest) -> Answer {
+    fn reply<T: Serialize>(r: ActionResult<T>) -> Answer {
+        match r {
+            Ok(v) => Answer {
+                result: Some(serde_json::to_value(v).unwrap_or(Value::Null)),
+                failure: None,
+                pose: None,
+            },
+            Err(f) => Answer {
+                result: None,
+                failure: Some(f),
+                pose: None,
+            },
+        }
+    }
+    let bad = |e: serde_json::Error| {
+        Answer::failed(
+            FailureReason::InvalidRequest,
+            format!("{} args: {e}", request.kind.word()),
+        )
+    };
+    let cone = || serde_json::from_value::<ConeArgs>(request.args.clone());
+    match request.kind {
+        RequestKind::MoveTo => {
+            #[derive(Deserialize)]
+            struct Goal {
+                goal: Pose2D,
+            }
+            match serde_json::from_value::<Goal>(request.args.clone()) {
+                Ok(g) => reply(robot.move_to(g.goal)),
+                Err(e) => bad(e),
+            }
+        }
+        RequestKind::MapUpdate => {
+            let m = robot.map_update();
+            reply(Ok(MapUpdateWire {
+                grid: RosGrid::from_grid(&m.grid),
+                newly_known: m.newly_known,
+                doors: m.doors,
+            }))
+        }
+        RequestKind::ProcessViewCone => match cone() {
+            Ok(a) => reply(robot.process_view_cone(&a.cone, &a.classes)),
+            Err(e) => bad(e),
+        },
+        RequestKind::ClassifyPlace => {
+            reply(robot.classify_place().map(|readings| Readings { readings }))
+        }
+        RequestKind::DetectorScores => match cone() {
+            Ok(a) => reply(robot.detector_scores(&a.cone, &a.class, &a.at)),
+            Err(e) => bad(e),
+        },
+        RequestKind::Attention => match cone() {
+            Ok(a) => reply(robot.attention(&a.cone, &a.classes)),
+            Err(e) => bad(e),
+        },
+        RequestKind::Recognise => match cone() {
+            Ok(a) => reply(robot.recognise(&a.cone, &a.class)),
+            Err(e) => bad(e),
+        },
+    }
+}

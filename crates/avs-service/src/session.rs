@@ -231,7 +231,12 @@ impl Session {
                     to_run.push(i);
                 }
             }
-            replay_log = s.robot_log.clone();
+            replay_log = s
+                .robot_log
+                .iter()
+                .enumerate()
+                .map(|(i, e)| crate::snapshot::expand(e.clone(), i))
+                .collect::<Result<Vec<_>, String>>()?;
         }
         let shared = Arc::new(Shared {
             state: Mutex::new(State {
@@ -778,10 +783,20 @@ impl Robot for Watched<'_> {
     }
 
     fn map_update(&mut self) -> MapUpdate {
-        // A map update is not an action: it runs even after a cancel (the agent's maps stay
-        // current), and counts as a checkpoint like any call.
-        let _ = self.checks.stop();
+        // After a cancel the robot is not asked again (a remote robot whose client has gone
+        // would hold the search for the robot timeout): the last map stands.
+        if self.checks.stop() {
+            let st = self.shared.state();
+            if let Some(grid) = st.live.grid.clone() {
+                return MapUpdate {
+                    grid,
+                    newly_known: 0,
+                    doors: st.live.doors.clone(),
+                };
+            }
+        }
         let m = self.inner.map_update();
+        self.shared.state().live.doors = m.doors.clone();
         self.done("map_update", Some(&m.grid));
         m
     }
