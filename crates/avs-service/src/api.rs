@@ -190,6 +190,7 @@ pub struct Health {
 
 /// Query of `GET …/robot/next`.
 #[derive(Debug, Clone, Copy, Default, Deserialize, utoipa::IntoParams)]
+#[serde(deny_unknown_fields)]
 pub struct NextQuery {
     /// How long to wait for a request, ms (default 0: answer at once; at most 60000).
     pub timeout_ms: Option<u64>,
@@ -197,6 +198,7 @@ pub struct NextQuery {
 
 /// Query of `GET …/trace`.
 #[derive(Debug, Clone, Default, Deserialize, utoipa::IntoParams)]
+#[serde(deny_unknown_fields)]
 pub struct TraceQuery {
     /// Only this goal's lines.
     pub goal: Option<String>,
@@ -204,6 +206,7 @@ pub struct TraceQuery {
 
 /// Query of `GET …/beliefs`.
 #[derive(Debug, Clone, Default, Deserialize, utoipa::IntoParams)]
+#[serde(deny_unknown_fields)]
 pub struct BeliefsQuery {
     /// The class whose P(ObjectAt L) to give (default: the current or last goal's class).
     pub class: Option<String>,

@@ -102,12 +102,34 @@ impl IntoResponse for ApiError {
     }
 }
 
+/// The field a serde error is about: its path, and for a missing key the key itself (serde
+/// reports that at the enclosing object).
+fn field_of(path: &str, message: &str, root: &str) -> String {
+    // An unknown key is in the path already; a missing one is not.
+    let key = message
+        .strip_prefix("missing field `")
+        .and_then(|rest| rest.split('`').next());
+    let base = if path == "." || path == "?" || path.is_empty() {
+        root.to_string()
+    } else if root.is_empty() {
+        path.to_string()
+    } else {
+        format!("{root}.{path}")
+    };
+    match (key, base.is_empty()) {
+        (Some(k), true) => k.to_string(),
+        (Some(k), false) => format!("{base}.{k}"),
+        (None, true) => "body".to_string(),
+        (None, false) => base,
+    }
+}
+
 /// A request body read as JSON of type `T`, with errors that name the field (by
 /// `serde_path_to_error`) in the API's error shape.
 pub fn parse_json<T: serde::de::DeserializeOwned>(body: &[u8]) -> Result<T, ApiError> {
     if body.iter().all(u8::is_ascii_whitespace) {
-        return Err(ApiError::new(
-            ErrorCode::BadRequest,
+        return Err(ApiError::bad_request(
+            "body",
             "the request body is empty; expected a JSON object",
         ));
     }
@@ -115,12 +137,20 @@ pub fn parse_json<T: serde::de::DeserializeOwned>(body: &[u8]) -> Result<T, ApiE
     serde_path_to_error::deserialize(de).map_err(|e| {
         let path = e.path().to_string();
         let inner = e.into_inner();
-        let err = ApiError::new(ErrorCode::BadRequest, format!("invalid JSON: {inner}"));
-        if path == "." || path.is_empty() {
-            err
+        let syntax = matches!(
+            inner.classify(),
+            serde_json::error::Category::Syntax | serde_json::error::Category::Eof
+        );
+        let inner = inner.to_string();
+        // A syntax error inside a value names that value's key (`1e999` for `start.x`); one
+        // before any key (an unclosed brace, a bare array) is the body's.
+        let named = path.starts_with(|c: char| c.is_ascii_alphabetic());
+        let field = if syntax && !named {
+            "body".to_string()
         } else {
-            err.field(path)
-        }
+            field_of(&path, &inner, "")
+        };
+        ApiError::bad_request(field, format!("invalid JSON: {inner}"))
     })
 }
 
@@ -132,15 +162,8 @@ pub fn from_value<T: serde::de::DeserializeOwned>(
 ) -> Result<T, ApiError> {
     serde_path_to_error::deserialize(v).map_err(|e| {
         let path = e.path().to_string();
-        let field = if path == "." || path.is_empty() {
-            at.to_string()
-        } else {
-            format!("{at}.{path}")
-        };
-        ApiError::new(
-            ErrorCode::BadRequest,
-            format!("{field}: {}", e.into_inner()),
-        )
-        .field(field)
+        let inner = e.into_inner().to_string();
+        let field = field_of(&path, &inner, at);
+        ApiError::new(ErrorCode::BadRequest, format!("{field}: {inner}")).field(field)
     })
 }

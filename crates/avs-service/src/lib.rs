@@ -46,7 +46,7 @@
 //! * **utoipa** derives the OpenAPI document from the handlers and types, so it cannot drift
 //!   from them; **subtle** compares the bearer token in constant time.
 //! * **Long polling** for the remote robot, not a socket: any HTTP client in any language can
-//!   be the robot (`examples/remote_robot.py` is one in plain Python), and a request not yet
+//!   be the robot (`examples/python/remote_robot.py` is one in plain Python), and a request not yet
 //!   answered is handed again to the next poll, so a client that restarts loses nothing.
 //! * **Snapshots are replay records** ([`snapshot`] says why).
 //! * **Tokens**: a non-loopback address needs one (`serve` refuses to start without); it is

@@ -106,6 +106,10 @@ pub struct Answer {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(value_type = Option<Object>)]
     pub pose: Option<Pose2D>,
+    /// Metres driven by a failed call before it failed (added to the odometry; the agent
+    /// tells a robot that cannot move from one that was stopped on the way by it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub travelled: Option<f64>,
 }
 
 impl Answer {
@@ -115,6 +119,7 @@ impl Answer {
             result: None,
             failure: Some(ActionFailure::new(reason, message)),
             pose: None,
+            travelled: None,
         }
     }
 }
@@ -147,24 +152,105 @@ struct Readings {
     readings: Vec<PlaceReading>,
 }
 
-/// Check `result` against the result type of `kind` (errors name the field under `result`).
+/// Check `result` against the result type of `kind` and its values (finite poses, distances
+/// and times not negative, confidences in (0, 1]); errors name the field under `result`.
 fn check_result(kind: RequestKind, result: &Value) -> Result<(), ApiError> {
     let at = "result";
     match kind {
-        RequestKind::MoveTo => from_value::<MoveReport>(at, result).map(drop),
+        RequestKind::MoveTo => {
+            let r: MoveReport = from_value(at, result)?;
+            pose_ok("result.pose", r.pose)?;
+            metres_ok("result.travelled", r.travelled)
+        }
         RequestKind::MapUpdate => {
             let m: MapUpdateWire = from_value(at, result)?;
             m.grid
                 .to_grid("result.grid")
-                .map(drop)
-                .map_err(|e| ApiError::bad_request(e.field.clone(), e.to_string()))
+                .map_err(|e| ApiError::bad_request(e.field.clone(), e.to_string()))?;
+            for (i, d) in m.doors.iter().enumerate() {
+                for (f, v) in [("x", d.x), ("y", d.y), ("yaw", d.yaw)] {
+                    finite_ok(&format!("result.doors[{i}].{f}"), v)?;
+                }
+                metres_ok(&format!("result.doors[{i}].width"), d.width)?;
+            }
+            Ok(())
         }
-        RequestKind::ProcessViewCone => from_value::<ViewReport>(at, result).map(drop),
-        RequestKind::ClassifyPlace => from_value::<Readings>(at, result).map(drop),
-        RequestKind::DetectorScores => from_value::<ScoreReport>(at, result).map(drop),
+        RequestKind::ProcessViewCone => {
+            let r: ViewReport = from_value(at, result)?;
+            pose_ok("result.pose", r.pose)?;
+            metres_ok("result.travelled", r.travelled)?;
+            for (i, d) in r.detections.iter().enumerate() {
+                let f = format!("result.detections[{i}]");
+                for (g, v) in [("x", d.pose.x), ("y", d.pose.y), ("z", d.pose.z)] {
+                    finite_ok(&format!("{f}.pose.{g}"), v)?;
+                }
+                if !(d.confidence > 0.0 && d.confidence <= 1.0) {
+                    return Err(ApiError::bad_request(
+                        format!("{f}.confidence"),
+                        format!("{}: expected a confidence in (0, 1]", d.confidence),
+                    ));
+                }
+            }
+            Ok(())
+        }
+        RequestKind::ClassifyPlace => {
+            let r: Readings = from_value(at, result)?;
+            for (i, p) in r.readings.iter().enumerate() {
+                for (j, &l) in p.likelihood.iter().enumerate() {
+                    if !(l.is_finite() && l >= 0.0) {
+                        return Err(ApiError::bad_request(
+                            format!("result.readings[{i}].likelihood[{j}]"),
+                            format!("{l}: expected a likelihood ≥ 0"),
+                        ));
+                    }
+                }
+            }
+            Ok(())
+        }
+        RequestKind::DetectorScores => {
+            let r: ScoreReport = from_value(at, result)?;
+            pose_ok("result.pose", r.pose)?;
+            metres_ok("result.travelled", r.travelled)?;
+            metres_ok("result.detector_seconds", r.detector_seconds)?;
+            for (i, z) in r.scores.iter().enumerate() {
+                if let Some(z) = z {
+                    finite_ok(&format!("result.scores[{i}]"), *z)?;
+                }
+            }
+            Ok(())
+        }
         RequestKind::Attention => from_value::<AttentionReport>(at, result).map(drop),
         RequestKind::Recognise => from_value::<RecognitionReport>(at, result).map(drop),
     }
+}
+
+fn finite_ok(field: &str, v: f64) -> Result<(), ApiError> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(ApiError::bad_request(
+            field,
+            format!("{v}: expected a finite number"),
+        ))
+    }
+}
+
+fn metres_ok(field: &str, v: f64) -> Result<(), ApiError> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err(ApiError::bad_request(
+            field,
+            format!("{v}: expected a finite number ≥ 0"),
+        ))
+    }
+}
+
+fn pose_ok(field: &str, p: Pose2D) -> Result<(), ApiError> {
+    for (f, v) in [("x", p.x), ("y", p.y), ("yaw", p.yaw)] {
+        finite_ok(&format!("{field}.{f}"), v)?;
+    }
+    Ok(())
 }
 
 struct Outstanding {
@@ -180,10 +266,16 @@ struct LinkState {
 }
 
 /// Where the agent's thread and the HTTP handlers meet; see the module docs.
+///
+/// A request ends in exactly one way — the client's answer, a cancel, the session's end or
+/// the timeout — and whichever ends it writes the exchange to the record under the same lock
+/// that takes the request, so a snapshot never holds an answer the agent did not get, nor
+/// misses one it did.
 #[derive(Default)]
 pub struct RemoteLink {
     state: Mutex<LinkState>,
     notify: tokio::sync::Notify,
+    log: Arc<Mutex<Vec<Exchange>>>,
 }
 
 impl std::fmt::Debug for RemoteLink {
@@ -195,10 +287,36 @@ impl std::fmt::Debug for RemoteLink {
 }
 
 impl RemoteLink {
+    /// A link recording every exchange in `log`, whose first request is numbered `first` (a
+    /// restored session continues the numbering of its record, so a request keeps its id
+    /// across a restart).
+    pub fn new(log: Arc<Mutex<Vec<Exchange>>>, first: u64) -> Self {
+        let link = Self {
+            log,
+            ..Self::default()
+        };
+        link.lock().next_id = first.saturating_sub(1);
+        link
+    }
+
     fn lock(&self) -> std::sync::MutexGuard<'_, LinkState> {
         // A handler that panicked cannot leave the state half-written (each change is one
         // assignment), so a poisoned lock is still good.
         self.state.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// End outstanding request `o` with `answer`: record it, hand it to the agent.
+    fn complete(&self, o: Outstanding, answer: Answer) {
+        self.log
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .push(Exchange {
+                kind: o.request.kind,
+                args: o.request.args,
+                answer: answer.clone(),
+            });
+        // The agent's thread waits on the other end until the request ends.
+        let _ = o.reply.send(answer);
     }
 
     /// The outstanding request, if any.
@@ -209,37 +327,56 @@ impl RemoteLink {
     /// Ask the client (blocking the agent's thread) and wait up to `timeout` for the answer.
     fn ask(&self, kind: RequestKind, args: Value, timeout: Duration) -> Answer {
         let (tx, rx) = mpsc::channel();
-        {
+        let id = {
             let mut s = self.lock();
-            if s.closed {
-                return Answer::failed(FailureReason::ExecutionFailed, "the session ended");
-            }
             s.next_id += 1;
             let request = RobotRequest {
                 request_id: s.next_id,
                 kind,
                 args,
             };
-            s.outstanding = Some(Outstanding { request, reply: tx });
-        }
-        self.notify.notify_waiters();
-        let answer = rx.recv_timeout(timeout);
-        let mut s = self.lock();
-        s.outstanding = None;
-        match answer {
-            Ok(a) => a,
-            Err(mpsc::RecvTimeoutError::Timeout) => Answer::failed(
-                FailureReason::ExecutionFailed,
-                format!(
-                    "the robot did not answer {} within {} s",
-                    kind.word(),
-                    timeout.as_secs_f64()
-                ),
-            ),
-            Err(mpsc::RecvTimeoutError::Disconnected) => {
-                Answer::failed(FailureReason::ExecutionFailed, "the session ended")
+            let o = Outstanding { request, reply: tx };
+            if s.closed {
+                drop(s);
+                self.complete(
+                    o,
+                    Answer::failed(FailureReason::ExecutionFailed, "the session ended"),
+                );
+                return rx.recv().unwrap_or_else(|_| {
+                    Answer::failed(FailureReason::ExecutionFailed, "the session ended")
+                });
             }
+            s.outstanding = Some(o);
+            s.next_id
+        };
+        self.notify.notify_waiters();
+        if let Ok(a) = rx.recv_timeout(timeout) {
+            return a;
         }
+        // Timed out — unless the request ended in the meantime.
+        let mut s = self.lock();
+        if s.outstanding
+            .as_ref()
+            .is_some_and(|o| o.request.request_id == id)
+        {
+            let o = s.outstanding.take().expect("checked");
+            drop(s);
+            self.complete(
+                o,
+                Answer::failed(
+                    FailureReason::ExecutionFailed,
+                    format!(
+                        "the robot did not answer {} within {} s",
+                        kind.word(),
+                        timeout.as_secs_f64()
+                    ),
+                ),
+            );
+        } else {
+            drop(s);
+        }
+        rx.recv()
+            .unwrap_or_else(|_| Answer::failed(FailureReason::ExecutionFailed, "the session ended"))
     }
 
     /// The outstanding request, waiting for one up to `timeout` (the long poll).
@@ -269,7 +406,8 @@ impl RemoteLink {
             return Err(ApiError::new(
                 ErrorCode::NotFound,
                 format!("no robot request {id} is waiting for an answer"),
-            ));
+            )
+            .field("request_id"));
         };
         if o.request.request_id != id {
             return Err(ApiError::new(
@@ -278,7 +416,14 @@ impl RemoteLink {
                     "no robot request {id} is waiting for an answer (request {} is)",
                     o.request.request_id
                 ),
-            ));
+            )
+            .field("request_id"));
+        }
+        if let Some(p) = answer.pose {
+            pose_ok("pose", p)?;
+        }
+        if let Some(t) = answer.travelled {
+            metres_ok("travelled", t)?;
         }
         match (&answer.result, &answer.failure) {
             (Some(r), None) => check_result(o.request.kind, r)?,
@@ -291,35 +436,32 @@ impl RemoteLink {
             }
         }
         let o = s.outstanding.take().expect("checked above");
-        // The agent's thread may have timed out in between: then the answer is too late.
-        o.reply.send(answer).map_err(|_| {
-            ApiError::new(
-                ErrorCode::Conflict,
-                format!("robot request {id} timed out before the answer came"),
-            )
-        })
+        drop(s);
+        self.complete(o, answer);
+        Ok(())
     }
 
     /// Fail the outstanding request (a cancelled goal) with `message`.
     pub fn fail_outstanding(&self, message: &str) {
-        if let Some(o) = self.lock().outstanding.take() {
-            let _ = o
-                .reply
-                .send(Answer::failed(FailureReason::ExecutionFailed, message));
+        let o = self.lock().outstanding.take();
+        if let Some(o) = o {
+            self.complete(o, Answer::failed(FailureReason::ExecutionFailed, message));
         }
     }
 
     /// End the link: the outstanding request and every later one fail.
     pub fn close(&self) {
-        let mut s = self.lock();
-        s.closed = true;
-        if let Some(o) = s.outstanding.take() {
-            let _ = o.reply.send(Answer::failed(
-                FailureReason::ExecutionFailed,
-                "the session ended",
-            ));
+        let o = {
+            let mut s = self.lock();
+            s.closed = true;
+            s.outstanding.take()
+        };
+        if let Some(o) = o {
+            self.complete(
+                o,
+                Answer::failed(FailureReason::ExecutionFailed, "the session ended"),
+            );
         }
-        drop(s);
         self.notify.notify_waiters();
     }
 }
@@ -390,7 +532,14 @@ impl RemoteRobot {
     /// recorded one), else from the client.
     fn ask(&mut self, kind: RequestKind, args: Value) -> Answer {
         let answer = match self.replay.pop_front() {
-            Some(e) if e.kind == kind && e.args == args => e.answer,
+            Some(e) if e.kind == kind && e.args == args => {
+                // A replayed exchange goes into the record again, as it was.
+                self.log
+                    .lock()
+                    .unwrap_or_else(|p| p.into_inner())
+                    .push(e.clone());
+                e.answer
+            }
             Some(e) => {
                 self.diverged.get_or_insert(format!(
                     "a recorded request was {} {}; the agent asked {} {}",
@@ -400,21 +549,18 @@ impl RemoteRobot {
                     args
                 ));
                 self.replay.clear();
-                self.link.ask(kind, args.clone(), self.timeout)
+                self.link.ask(kind, args, self.timeout)
             }
-            None => self.link.ask(kind, args.clone(), self.timeout),
+            None => self.link.ask(kind, args, self.timeout),
         };
-        if let Some(p) = answer.pose.filter(Pose2D::is_finite) {
-            self.pose = p;
+        if answer.failure.is_some() {
+            if let Some(p) = answer.pose.filter(Pose2D::is_finite) {
+                self.pose = p;
+            }
+            if let Some(t) = answer.travelled.filter(|t| t.is_finite() && *t > 0.0) {
+                self.odometry += t;
+            }
         }
-        self.log
-            .lock()
-            .unwrap_or_else(|p| p.into_inner())
-            .push(Exchange {
-                kind,
-                args,
-                answer: answer.clone(),
-            });
         answer
     }
 
@@ -592,11 +738,13 @@ pub fn answer_with(robot: &mut dyn Robot, request: &RobotRequest) -> Answer {
                 result: Some(serde_json::to_value(v).unwrap_or(Value::Null)),
                 failure: None,
                 pose: None,
+                travelled: None,
             },
             Err(f) => Answer {
                 result: None,
                 failure: Some(f),
                 pose: None,
+                travelled: None,
             },
         }
     }

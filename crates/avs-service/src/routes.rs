@@ -12,7 +12,7 @@ use crate::snapshot::{Snapshot, FORMAT};
 use crate::spec::Spec;
 use crate::AppState;
 use axum::body::Bytes;
-use axum::extract::{Path, Query, State};
+use axum::extract::{Path, RawQuery, State};
 use axum::http::{header, HeaderMap, StatusCode};
 use axum::response::sse::{Event as SseEvent, KeepAlive, Sse};
 use axum::response::{Html, IntoResponse, Response};
@@ -25,13 +25,30 @@ use tokio_stream::StreamExt;
 
 type Result<T> = std::result::Result<T, ApiError>;
 
+/// The query string read as `T`; errors name the parameter (`access_token` is the token
+/// check's and is ignored here).
+fn query<T: serde::de::DeserializeOwned>(q: Option<String>) -> Result<T> {
+    let q = q.unwrap_or_default();
+    let kept: Vec<&str> = q
+        .split('&')
+        .filter(|kv| !kv.is_empty() && !kv.starts_with("access_token="))
+        .collect();
+    let joined = kept.join("&");
+    let de = serde_urlencoded::Deserializer::new(form_urlencoded::parse(joined.as_bytes()));
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let field = e.path().to_string();
+        let inner = e.into_inner();
+        ApiError::bad_request(field, format!("query: {inner}"))
+    })
+}
+
 /// The session `id`, marked as used.
 fn session(state: &AppState, id: &str) -> Result<Arc<Session>> {
     let s = state
         .sessions()
         .get(id)
         .cloned()
-        .ok_or_else(|| ApiError::not_found(format_args!("session {id}")))?;
+        .ok_or_else(|| ApiError::not_found(format_args!("session {id}")).field("id"))?;
     s.touch();
     Ok(s)
 }
@@ -165,7 +182,7 @@ pub async fn delete_session(
 ) -> Result<Json<serde_json::Value>> {
     let s = state
         .remove(&id)
-        .ok_or_else(|| ApiError::not_found(format_args!("session {id}")))?;
+        .ok_or_else(|| ApiError::not_found(format_args!("session {id}")).field("id"))?;
     s.shutdown();
     Ok(Json(serde_json::json!({ "deleted": id })))
 }
@@ -227,7 +244,9 @@ pub async fn get_goal(
         .iter()
         .find(|g| g.id == goal_id)
         .map(|g| Json(g.status()))
-        .ok_or_else(|| ApiError::not_found(format_args!("goal {goal_id} in session {id}")))
+        .ok_or_else(|| {
+            ApiError::not_found(format_args!("goal {goal_id} in session {id}")).field("goal_id")
+        })
 }
 
 /// Cancel a goal.
@@ -238,9 +257,9 @@ pub async fn cancel_goal(
     Path((id, goal_id)): Path<(String, String)>,
 ) -> Result<Json<GoalStatus>> {
     let s = session(&state, &id)?;
-    s.cancel(&goal_id)
-        .map(Json)
-        .ok_or_else(|| ApiError::not_found(format_args!("goal {goal_id} in session {id}")))
+    s.cancel(&goal_id).map(Json).ok_or_else(|| {
+        ApiError::not_found(format_args!("goal {goal_id} in session {id}")).field("goal_id")
+    })
 }
 
 /// The pending robot request (long poll).
@@ -250,14 +269,16 @@ pub async fn cancel_goal(
 pub async fn robot_next(
     State(state): State<AppState>,
     Path(id): Path<String>,
-    Query(q): Query<NextQuery>,
+    RawQuery(q): RawQuery,
 ) -> Result<Response> {
+    let q: NextQuery = query(q)?;
     let s = session(&state, &id)?;
     let link = s.shared.link.clone().ok_or_else(|| {
         ApiError::new(
             ErrorCode::Conflict,
             format!("session {id} drives a simulated robot; only a remote robot is asked"),
         )
+        .field("robot")
     })?;
     let wait = Duration::from_millis(q.timeout_ms.unwrap_or(0).min(60_000));
     let r = link.next(wait).await;
@@ -282,6 +303,7 @@ pub async fn robot_answer(
             ErrorCode::Conflict,
             format!("session {id} drives a simulated robot; only a remote robot is asked"),
         )
+        .field("robot")
     })?;
     let rid: u64 = request_id.parse().map_err(|_| {
         ApiError::bad_request("request_id", format!("{request_id:?}: expected a number"))
@@ -297,9 +319,10 @@ pub async fn robot_answer(
 pub async fn trace(
     State(state): State<AppState>,
     Path(id): Path<String>,
-    Query(q): Query<TraceQuery>,
+    RawQuery(q): RawQuery,
     headers: HeaderMap,
 ) -> Result<Response> {
+    let q: TraceQuery = query(q)?;
     let s = session(&state, &id)?;
     let goal = match &q.goal {
         Some(g) => Some(
@@ -308,7 +331,9 @@ pub async fn trace(
                 .goals
                 .iter()
                 .position(|e| &e.id == g)
-                .ok_or_else(|| ApiError::not_found(format_args!("goal {g} in session {id}")))?,
+                .ok_or_else(|| {
+                    ApiError::not_found(format_args!("goal {g} in session {id}")).field("goal")
+                })?,
         ),
         None => None,
     };
@@ -401,8 +426,9 @@ pub async fn map_svg(State(state): State<AppState>, Path(id): Path<String>) -> R
 pub async fn beliefs(
     State(state): State<AppState>,
     Path(id): Path<String>,
-    Query(q): Query<BeliefsQuery>,
+    RawQuery(q): RawQuery,
 ) -> Result<Json<serde_json::Value>> {
+    let q: BeliefsQuery = query(q)?;
     let s = session(&state, &id)?;
     if let Some(c) = q.class.as_ref().filter(|c| !s.classes.contains(c)) {
         return Err(ApiError::invalid(

@@ -205,7 +205,6 @@ impl Session {
             .map(|c| c.name.clone())
             .collect();
         let (tx, _) = broadcast::channel(1024);
-        let link = (spec.robot == RobotKind::Remote).then(|| Arc::new(RemoteLink::default()));
         let mut goals = Vec::new();
         let mut replay_log = Vec::new();
         let mut to_run = Vec::new();
@@ -238,6 +237,13 @@ impl Session {
                 .map(|(i, e)| crate::snapshot::expand(e.clone(), i))
                 .collect::<Result<Vec<_>, String>>()?;
         }
+        let robot_log = Arc::new(Mutex::new(Vec::new()));
+        let link = (spec.robot == RobotKind::Remote).then(|| {
+            Arc::new(RemoteLink::new(
+                robot_log.clone(),
+                replay_log.len() as u64 + 1,
+            ))
+        });
         let shared = Arc::new(Shared {
             state: Mutex::new(State {
                 goals,
@@ -251,7 +257,7 @@ impl Session {
             cancel: AtomicBool::new(false),
             agent: Mutex::new(agent),
             link,
-            robot_log: Arc::new(Mutex::new(Vec::new())),
+            robot_log,
             calls: AtomicU64::new(0),
         });
         let next_goal = restore
@@ -634,8 +640,14 @@ fn run_goal(shared: &Arc<Shared>, body: &mut Body, world: Option<&World>, g: usi
     entry.cancelled_at = checks.seen_at.get();
     match result {
         Ok(report) => {
+            // A remote robot's world is not the environment file (only its camera and start
+            // are used): nothing is scored against a truth the server does not have.
+            let truth = match body {
+                Body::Sim(_) => world,
+                Body::Remote(_) => None,
+            };
             let summary = avs_eval::episode::summarize(
-                world,
+                truth,
                 &class,
                 [start.x, start.y],
                 &report,

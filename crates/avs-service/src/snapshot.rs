@@ -188,6 +188,7 @@ mod tests {
                 result: Some(json!({ "grid": grid, "newly_known": 3 })),
                 failure: None,
                 pose: None,
+                travelled: None,
             },
         };
         let c = compact(e.clone());

@@ -658,3 +658,463 @@ async fn the_event_stream_replays_the_trace_then_follows() {
     )
     .await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_corpus_of_malformed_requests_gets_4xx_naming_the_field_and_the_server_goes_on() {
+    let (_, app) = app(ServiceConfig::default());
+    let sim = create(&app, json!({})).await;
+    let remote = create(
+        &app,
+        json!({ "robot": "remote", "start": { "x": 1.0, "y": 1.0, "yaw": 0.0 } }),
+    )
+    .await;
+    goal(&app, &remote, "mug").await;
+    let (_, req) = call(
+        &app,
+        "GET",
+        &format!("/v1/sessions/{remote}/robot/next?timeout_ms=10000"),
+        None,
+    )
+    .await;
+    assert_eq!(req["kind"], "map_update");
+    let rid = req["request_id"].as_u64().unwrap();
+    let answer = format!("/v1/sessions/{remote}/robot/{rid}");
+    let info = json!({ "resolution": 0.5, "width": 2, "height": 1,
+        "origin": { "position": { "x": 0.0, "y": 0.0 } } });
+    let raw = |s: &str| Value::String(s.to_string());
+    // (method, uri, body, the field the error must name); a `Value::String` body is sent raw.
+    let corpus: Vec<(&str, String, Option<Value>, &str)> = vec![
+        ("POST", "/v1/sessions".into(), Some(raw("")), "body"),
+        ("POST", "/v1/sessions".into(), Some(raw("{")), "body"),
+        ("POST", "/v1/sessions".into(), Some(raw("[1, 2]")), "body"),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(raw("{\"seed\": NaN}")),
+            "seed",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(json!({ "robto": "sim" })),
+            "robto",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(json!({ "seed": "one" })),
+            "seed",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(json!({ "seed": -1 })),
+            "seed",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(json!({ "robot": "robotic" })),
+            "robot",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(json!({ "zoom": "yes" })),
+            "zoom",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(json!({ "knowledge": { "url": "x" } })),
+            "knowledge",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(json!({ "knowledge": { "inline": "kind: [" } })),
+            "knowledge",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(json!({ "domain": { "inline": "kind: domain\n" } })),
+            "domain",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(json!({ "environment": { "inline": "kind: environment\n" } })),
+            "environment",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(json!({ "knowledge": { "path": "/no/such.yaml" } })),
+            "knowledge",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(json!({ "start": { "x": "1", "y": 0, "yaw": 0 } })),
+            "start.x",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(raw(r#"{"start": {"x": 1e999, "y": 0, "yaw": 0}}"#)),
+            "start.x",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(json!({ "robot": "remote" })),
+            "start",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(
+                json!({ "robot": "remote", "start": { "x": 0, "y": 0, "yaw": 0 },
+            "camera": { "hfov_deg": 40, "vfov_deg": 30, "pan_deg": [-90, 90], "tilt_deg": [-45, 30],
+                        "max_zoom": 0.5, "height": 1.2 } }),
+            ),
+            "camera.max_zoom",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(json!({ "camera": { "hfov_deg": 40 } })),
+            "camera.vfov_deg",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(
+                json!({ "robot": "remote", "start": { "x": 0, "y": 0, "yaw": 0 },
+            "capabilities": ["teleport"] }),
+            ),
+            "capabilities[0]",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(json!({ "capabilities": ["attention"] })),
+            "capabilities",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(json!({ "snapshot": 5 })),
+            "snapshot",
+        ),
+        (
+            "POST",
+            "/v1/sessions".into(),
+            Some(json!({ "seed": 2, "snapshot": { "format": "x" } })),
+            "snapshot.version",
+        ),
+        (
+            "POST",
+            format!("/v1/sessions/{sim}/goals"),
+            Some(json!({})),
+            "class",
+        ),
+        (
+            "POST",
+            format!("/v1/sessions/{sim}/goals"),
+            Some(json!({ "class": 5 })),
+            "class",
+        ),
+        (
+            "POST",
+            format!("/v1/sessions/{sim}/goals"),
+            Some(json!({ "class": "unicorn" })),
+            "class",
+        ),
+        (
+            "POST",
+            format!("/v1/sessions/{sim}/goals"),
+            Some(json!({ "class": "mug", "also": ["unicorn"] })),
+            "also[0]",
+        ),
+        (
+            "POST",
+            "/v1/sessions/s404/goals".into(),
+            Some(json!({ "class": "mug" })),
+            "id",
+        ),
+        (
+            "GET",
+            format!("/v1/sessions/{sim}/goals/g404"),
+            None,
+            "goal_id",
+        ),
+        (
+            "DELETE",
+            format!("/v1/sessions/{sim}/goals/g404"),
+            None,
+            "goal_id",
+        ),
+        ("DELETE", "/v1/sessions/s404".into(), None, "id"),
+        (
+            "GET",
+            format!("/v1/sessions/{sim}/trace?goal=g404"),
+            None,
+            "goal",
+        ),
+        (
+            "GET",
+            format!("/v1/sessions/{sim}/beliefs?class=unicorn"),
+            None,
+            "class",
+        ),
+        (
+            "GET",
+            format!("/v1/sessions/{sim}/beliefs?klass=mug"),
+            None,
+            "klass",
+        ),
+        (
+            "GET",
+            format!("/v1/sessions/{sim}/robot/next"),
+            None,
+            "robot",
+        ),
+        (
+            "GET",
+            format!("/v1/sessions/{remote}/robot/next?timeout_ms=soon"),
+            None,
+            "timeout_ms",
+        ),
+        (
+            "POST",
+            format!("/v1/sessions/{remote}/robot/first"),
+            Some(json!({ "failure": { "reason": "unreachable", "message": "" } })),
+            "request_id",
+        ),
+        (
+            "POST",
+            format!("/v1/sessions/{remote}/robot/{}", rid + 1),
+            Some(json!({ "failure": { "reason": "unreachable", "message": "" } })),
+            "request_id",
+        ),
+        ("POST", answer.clone(), Some(json!({})), "result"),
+        (
+            "POST",
+            answer.clone(),
+            Some(json!({ "result": {}, "failure": { "reason": "unreachable", "message": "" } })),
+            "result",
+        ),
+        (
+            "POST",
+            answer.clone(),
+            Some(json!({ "failure": { "reason": "tired", "message": "" } })),
+            "failure.reason",
+        ),
+        (
+            "POST",
+            answer.clone(),
+            Some(json!({ "answer": 1 })),
+            "answer",
+        ),
+        (
+            "POST",
+            answer.clone(),
+            Some(
+                json!({ "failure": { "reason": "unreachable", "message": "" },
+            "pose": { "x": 0, "y": "0", "yaw": 0 } }),
+            ),
+            "pose.y",
+        ),
+        (
+            "POST",
+            answer.clone(),
+            Some(json!({ "result": { "grid": { "info": info, "data": [0] }, "newly_known": 1 } })),
+            "result.grid.data",
+        ),
+        (
+            "POST",
+            answer.clone(),
+            Some(
+                json!({ "result": { "grid": { "info": info, "data": [0, -2] }, "newly_known": 1 } }),
+            ),
+            "result.grid.data[1]",
+        ),
+        (
+            "POST",
+            answer.clone(),
+            Some(json!({ "result": { "grid": { "info": info, "data": [0, 0] } } })),
+            "result.newly_known",
+        ),
+        (
+            "POST",
+            answer.clone(),
+            Some(
+                json!({ "result": { "grid": { "info": { "resolution": -1, "width": 1, "height": 1,
+            "origin": { "position": { "x": 0, "y": 0 } } }, "data": [0] }, "newly_known": 1 } }),
+            ),
+            "result.grid.info",
+        ),
+        (
+            "POST",
+            answer.clone(),
+            Some(
+                json!({ "result": { "grid": { "info": { "resolution": 0.1, "width": 100000, "height": 100000,
+            "origin": { "position": { "x": 0, "y": 0 } } }, "data": [0] }, "newly_known": 1 } }),
+            ),
+            "result.grid.data",
+        ),
+        (
+            "POST",
+            answer.clone(),
+            Some(
+                json!({ "result": { "grid": { "info": info, "data": [0, 0] }, "newly_known": 1,
+            "doors": [{ "name": "d", "x": 0, "y": 0, "yaw": 0, "width": -1, "open": true }] } }),
+            ),
+            "result.doors[0].width",
+        ),
+    ];
+    assert!(corpus.len() >= 30, "{} cases", corpus.len());
+    for (method, uri, body, field) in corpus {
+        let mut req = Request::builder().method(method).uri(&uri);
+        let body = match body {
+            Some(Value::String(s)) => Body::from(s),
+            Some(v) => {
+                req = req.header(header::CONTENT_TYPE, "application/json");
+                Body::from(v.to_string())
+            }
+            None => Body::empty(),
+        };
+        let res = app.clone().oneshot(req.body(body).unwrap()).await.unwrap();
+        let status = res.status();
+        let bytes = res.into_body().collect().await.unwrap().to_bytes();
+        let v: Value = serde_json::from_slice(&bytes).unwrap_or_else(|_| {
+            panic!(
+                "{method} {uri}: not JSON: {}",
+                String::from_utf8_lossy(&bytes)
+            )
+        });
+        assert!(status.is_client_error(), "{method} {uri}: {status} {v}");
+        assert_eq!(v["error"]["field"], field, "{method} {uri}: {v}");
+        assert!(!v["error"]["message"].as_str().unwrap().is_empty());
+    }
+    // The request is still open, and a good answer is taken.
+    let good = json!({ "result": { "grid": { "info": info, "data": [0, 0] }, "newly_known": 2 } });
+    let (s, v) = call(&app, "POST", &answer, Some(good)).await;
+    assert_eq!(s, StatusCode::OK, "{v}");
+    let gid = goal(&app, &sim, "cerealbox").await;
+    assert_eq!(ended(&app, &sim, &gid).await["state"], "found");
+    let (s, _) = call(&app, "DELETE", &format!("/v1/sessions/{remote}"), None).await;
+    assert_eq!(s, StatusCode::OK);
+}
+
+/// Answer one robot request of session `sid` with `robot`, if one comes within 2 s; whether
+/// one did.
+async fn answer_one(app: &Router, sid: &str, robot: &mut dyn avs_robot::Robot) -> bool {
+    let (s, v) = call(
+        app,
+        "GET",
+        &format!("/v1/sessions/{sid}/robot/next?timeout_ms=2000"),
+        None,
+    )
+    .await;
+    if s == StatusCode::NO_CONTENT {
+        return false;
+    }
+    let req: RobotRequest = serde_json::from_value(v).unwrap();
+    let answer = answer_with(robot, &req);
+    let (s, v) = call(
+        app,
+        "POST",
+        &format!("/v1/sessions/{sid}/robot/{}", req.request_id),
+        Some(serde_json::to_value(answer).unwrap()),
+    )
+    .await;
+    assert_eq!(s, StatusCode::OK, "{v}");
+    true
+}
+
+/// Wait until session `sid`'s agent waits on robot request `id`.
+async fn wait_pending(app: &Router, sid: &str, id: u64) {
+    for _ in 0..3000 {
+        let (_, info) = call(app, "GET", &format!("/v1/sessions/{sid}"), None).await;
+        if info["pending_request"].as_u64() == Some(id) {
+            return;
+        }
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+    panic!("session {sid} never asked request {id}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_session_restored_mid_goal_continues_its_goal_with_the_maps_it_had() {
+    let world = Shipped::Environment.input().world().unwrap();
+    let k = Shipped::Knowledge.input().knowledge().unwrap();
+    // The physical robot: it goes on existing across the server's restart.
+    let mut robot = SimAgentRobot::new(&world, k, SimRobotConfig::default(), 1).unwrap();
+    let s = &world.env.robot.start;
+    let body = json!({
+        "robot": "remote",
+        "start": { "x": s.x, "y": s.y, "yaw": s.yaw_deg.to_radians() },
+        "camera": world.env.camera,
+        "capabilities": ["classify_place", "detector_scores", "attention", "recognise"],
+    });
+    let (_, app) = app(ServiceConfig::default());
+    let sid = create(&app, body).await;
+    let gid = goal(&app, &sid, "cerealbox").await;
+    let mut answered = 0;
+    while answered < 60 {
+        assert!(
+            answer_one(&app, &sid, &mut robot).await,
+            "the search asks on"
+        );
+        answered += 1;
+    }
+    // The server goes down mid-goal, while the agent waits on the robot: its snapshot is all
+    // that is left.
+    wait_pending(&app, &sid, 61).await;
+    let (_, snap) = call(&app, "GET", &format!("/v1/sessions/{sid}/snapshot"), None).await;
+    assert_eq!(snap["goals"][0]["state"], "running");
+    assert_eq!(snap["robot_log"].as_array().unwrap().len(), 60);
+    let (_, before) = call(&app, "GET", &format!("/v1/sessions/{sid}/beliefs"), None).await;
+    call(&app, "DELETE", &format!("/v1/sessions/{sid}"), None).await;
+    // A new server re-creates the session; the agent replays the record without asking the
+    // robot, then asks what it had not yet been answered.
+    let (_, fresh) = self::app(ServiceConfig::default());
+    let rid = create(&fresh, json!({ "snapshot": snap })).await;
+    // Once the record is replayed the agent waits on the robot with the beliefs it had, for
+    // the request it was waiting on (the same number).
+    wait_pending(&fresh, &rid, 61).await;
+    let (_, restored) = call(&fresh, "GET", &format!("/v1/sessions/{rid}/beliefs"), None).await;
+    assert_eq!(restored, before);
+    let mut after_restart = 0;
+    loop {
+        let (_, g) = call(
+            &fresh,
+            "GET",
+            &format!("/v1/sessions/{rid}/goals/{gid}"),
+            None,
+        )
+        .await;
+        if g["state"] != "running" && g["state"] != "queued" {
+            assert_eq!(g["state"], "found", "{g}");
+            break;
+        }
+        if answer_one(&fresh, &rid, &mut robot).await {
+            after_restart += 1;
+        }
+    }
+    assert!(after_restart > 0);
+    // The goal's whole trace is the uninterrupted search's: nothing was lost or redone on
+    // the robot.
+    assert_eq!(
+        trace(&fresh, &rid, "").await,
+        lines(&library_search("cerealbox", 1))
+    );
+    let rooms = |b: &Value| b["rooms"].as_array().map(Vec::len).unwrap_or(0);
+    assert!(
+        rooms(&before) > 0,
+        "the session had maps before the restart: {before}"
+    );
+}

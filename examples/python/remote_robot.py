@@ -26,9 +26,9 @@ origin must not be rotated); ``process_view_cone`` points the pan-tilt unit, gra
 runs the detector and reports each object's position in the map frame (z above the floor).
 Send the real camera in ``CAMERA`` and the real start pose in the session body.
 
-    python3 examples/remote_robot.py [--server http://127.0.0.1:7878] [--token T]
-                                     [--goal cerealbox] [--timeout-s 600]
-    python3 examples/remote_robot.py --self-test
+    python3 examples/python/remote_robot.py [--server http://127.0.0.1:7878] [--token T]
+                                            [--goal cerealbox] [--timeout-s 600]
+    python3 examples/python/remote_robot.py --self-test
 """
 
 from __future__ import annotations
