@@ -204,6 +204,14 @@ pub struct TraceQuery {
     pub goal: Option<String>,
 }
 
+/// Query of `GET …/map.svg`.
+#[derive(Debug, Clone, Default, Deserialize, utoipa::IntoParams)]
+#[serde(deny_unknown_fields)]
+pub struct MapQuery {
+    /// List the current plan under the map (default true).
+    pub plan: Option<bool>,
+}
+
 /// Query of `GET …/beliefs`.
 #[derive(Debug, Clone, Default, Deserialize, utoipa::IntoParams)]
 #[serde(deny_unknown_fields)]

@@ -214,8 +214,9 @@ fn esc(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// The picture of `live` with `beliefs` (rooms, placeholders, doors) as an SVG document.
-pub fn render_svg(live: &Live, beliefs: Option<&Beliefs>) -> String {
+/// The picture of `live` with `beliefs` (rooms, placeholders, doors) as an SVG document, with
+/// the current plan listed under the map when `plan`.
+pub fn render_svg(live: &Live, beliefs: Option<&Beliefs>, plan: bool) -> String {
     // The frame: the map, else everything drawn, with a margin.
     let mut xs: Vec<f64> = live.trail.iter().map(|p| p[0]).collect();
     let mut ys: Vec<f64> = live.trail.iter().map(|p| p[1]).collect();
@@ -240,7 +241,14 @@ pub fn render_svg(live: &Live, beliefs: Option<&Beliefs>) -> String {
         fold(&ys, f64::min, f64::INFINITY) - 0.5,
         fold(&ys, f64::max, f64::NEG_INFINITY) + 0.5,
     );
-    let (w, h) = ((x1 - x0) * SCALE, (y1 - y0) * SCALE);
+    // The plan is listed under the drawing, one line per step.
+    let plan_h = if live.plan.is_empty() || !plan {
+        0.0
+    } else {
+        10.0 + 13.0 * live.plan.len() as f64
+    };
+    let (w, map_h) = ((x1 - x0) * SCALE, (y1 - y0) * SCALE);
+    let h = map_h + plan_h;
     let px = |x: f64| (x - x0) * SCALE;
     let py = |y: f64| (y1 - y) * SCALE;
     let mut s = String::new();
@@ -386,15 +394,18 @@ pub fn render_svg(live: &Live, beliefs: Option<&Beliefs>) -> String {
         yaw.to_degrees(),
         live.odometry
     );
-    // The current plan, top left.
-    if !live.plan.is_empty() {
-        let _ = writeln!(s, r#"<g class="plan">"#);
+    // The current plan, under the map.
+    if plan && !live.plan.is_empty() {
+        let _ = writeln!(
+            s,
+            r##"<g class="plan"><rect x="0" y="{map_h:.0}" width="{w:.0}" height="{plan_h:.0}" fill="#f4f4f4"/>"##
+        );
         for (i, step) in live.plan.iter().enumerate() {
             let current = live.step.as_deref() == Some(step.as_str());
             let _ = writeln!(
                 s,
-                r##"<text x="6" y="{}" fill="{}" font-weight="{}">{}</text>"##,
-                14 + 13 * i,
+                r##"<text x="6" y="{:.0}" fill="{}" font-weight="{}">{}</text>"##,
+                map_h + 16.0 + 13.0 * i as f64,
                 if current { "#d62728" } else { "#333" },
                 if current { "bold" } else { "normal" },
                 esc(step)
@@ -521,7 +532,7 @@ mod tests {
             }],
             ..Beliefs::default()
         };
-        let svg = render_svg(&live, Some(&b));
+        let svg = render_svg(&live, Some(&b), true);
         // Kitchen is the second category: the second colour, and the hover text ranks it first.
         assert!(svg.contains(&format!(r#"fill="{}""#, PALETTE[1])), "{svg}");
         assert!(svg.contains("<title>room0: kitchen 0.80, office 0.20</title>"));

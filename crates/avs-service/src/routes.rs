@@ -3,7 +3,7 @@
 
 use crate::api::{
     BeliefsQuery, CreateSession, Created, GoalCreated, GoalList, GoalRequest, GoalStatus, Health,
-    NextQuery, SessionInfo, SessionList, SessionMetrics, TraceQuery,
+    MapQuery, NextQuery, SessionInfo, SessionList, SessionMetrics, TraceQuery,
 };
 use crate::error::{parse_json, ApiError, ErrorCode};
 use crate::remote::{Answer, RobotRequest};
@@ -403,9 +403,14 @@ pub async fn trace(
 }
 
 /// The map as SVG.
-#[utoipa::path(get, path = "/v1/sessions/{id}/map.svg",
+#[utoipa::path(get, path = "/v1/sessions/{id}/map.svg", params(MapQuery),
     responses((status = 200, description = "image/svg+xml")))]
-pub async fn map_svg(State(state): State<AppState>, Path(id): Path<String>) -> Result<Response> {
+pub async fn map_svg(
+    State(state): State<AppState>,
+    Path(id): Path<String>,
+    RawQuery(q): RawQuery,
+) -> Result<Response> {
+    let q: MapQuery = query(q)?;
     let s = session(&state, &id)?;
     let (live, mut beliefs) = {
         let st = s.shared.state();
@@ -416,7 +421,7 @@ pub async fn map_svg(State(state): State<AppState>, Path(id): Path<String>) -> R
             beliefs = agent.beliefs(None);
         }
     }
-    let svg = crate::live::render_svg(&live, beliefs.as_ref());
+    let svg = crate::live::render_svg(&live, beliefs.as_ref(), q.plan.unwrap_or(true));
     Ok(([(header::CONTENT_TYPE, "image/svg+xml")], svg).into_response())
 }
 

@@ -622,7 +622,22 @@ fn run_goal(shared: &Arc<Shared>, body: &mut Body, world: Option<&World>, g: usi
             shared,
             checks: &checks,
         };
-        agent.search_with(&mut watched, goal, &mut sink)
+        // A fault in the agent fails this goal, not the server: the other sessions and the
+        // next goal go on (the agent's memory is whatever the search left).
+        match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            agent.search_with(&mut watched, goal, &mut sink)
+        })) {
+            Ok(r) => r.map_err(|e| e.to_string()),
+            Err(p) => {
+                let what = p
+                    .downcast_ref::<&str>()
+                    .map(|s| s.to_string())
+                    .or_else(|| p.downcast_ref::<String>().cloned())
+                    .unwrap_or_else(|| "no message".into());
+                tracing::error!("goal {}: the agent panicked: {what}", goal_id(shared, g));
+                Err(format!("internal error: the agent panicked: {what}"))
+            }
+        }
     };
     let compute_s = clock.elapsed().as_secs_f64();
     let trail: Vec<[f64; 2]> = match body {
@@ -665,11 +680,16 @@ fn run_goal(shared: &Arc<Shared>, body: &mut Body, world: Option<&World>, g: usi
         }
         Err(e) => {
             entry.state = GoalState::Failed;
-            entry.error = Some(e.to_string());
+            entry.error = Some(e);
         }
     }
     st.last_active = Instant::now();
     shared.push_goal(&st.goals[g]);
+}
+
+/// The id of goal `g`.
+fn goal_id(shared: &Shared, g: usize) -> String {
+    shared.state().goals[g].id.clone()
 }
 
 /// The stop checks and robot calls of one goal, counted; see the module docs.

@@ -281,6 +281,15 @@ async fn a_token_is_required_when_configured() {
     );
     let (_, v) = call(&app, "GET", "/v1/sessions", None).await;
     assert_eq!(v["error"]["code"], "unauthorized");
+    // A token with characters a URL escapes is compared decoded.
+    let (_, app) = self::app(ServiceConfig {
+        token: Some("a+b/c d".into()),
+        ..ServiceConfig::default()
+    });
+    let (s, _) = call(&app, "GET", "/healthz?access_token=a%2Bb%2Fc%20d", None).await;
+    assert_eq!(s, StatusCode::OK);
+    let (s, _) = call(&app, "GET", "/healthz?access_token=a%2Bb%2Fc", None).await;
+    assert_eq!(s, StatusCode::UNAUTHORIZED);
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -874,6 +883,12 @@ async fn a_corpus_of_malformed_requests_gets_4xx_naming_the_field_and_the_server
             format!("/v1/sessions/{sim}/beliefs?klass=mug"),
             None,
             "klass",
+        ),
+        (
+            "GET",
+            format!("/v1/sessions/{sim}/map.svg?plan=maybe"),
+            None,
+            "plan",
         ),
         (
             "GET",

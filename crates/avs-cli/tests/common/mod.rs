@@ -1,5 +1,8 @@
 //! The one home of the CLI tests' way to run the `avs` binary.
 
+#[allow(dead_code, reason = "only the serve tests start a server")]
+pub mod serve;
+
 use std::path::Path;
 use std::process::{Command, Output};
 
