@@ -67,8 +67,8 @@ fn an_address_off_loopback_needs_a_token() {
 }
 
 #[test]
-fn the_demo_session_finds_the_cereal_box() {
-    let (_server, _dir, port) = serve(&["--demo"]);
+fn the_demo_session_finds_the_cereal_box_with_the_trace_of_avs_search() {
+    let (_server, dir, port) = serve(&["--demo"]);
     let t0 = Instant::now();
     loop {
         let r = get(port, "/v1/sessions/s1/goals/g1").unwrap_or_default();
@@ -82,6 +82,31 @@ fn the_demo_session_finds_the_cereal_box() {
         assert!(t0.elapsed() < Duration::from_secs(120), "{r}");
         std::thread::sleep(Duration::from_millis(200));
     }
+    // The same trace, line for line, as `avs search` with the same inputs and seed.
+    let (_, served) = http(port, "GET", "/v1/sessions/s1/trace", "").unwrap();
+    let file = dir.0.join("search.jsonl");
+    let out = Command::new(env!("CARGO_BIN_EXE_avs"))
+        .args([
+            "search",
+            "--goal",
+            "cerealbox",
+            "--seed",
+            "1",
+            "--json",
+            "--trace-json",
+        ])
+        .arg(&file)
+        .current_dir(&dir.0)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let searched = std::fs::read_to_string(&file).unwrap();
+    assert!(searched.lines().count() > 10);
+    assert_eq!(served, searched);
     let (status, page) = http(port, "GET", "/", "").unwrap();
     assert_eq!(status, 200);
     assert!(page.contains("<html"), "{page}");

@@ -262,6 +262,20 @@ pub async fn cancel_goal(
     })
 }
 
+/// The link of a remote session (a simulated one is not asked: `409`).
+fn remote_link(s: &Session) -> Result<Arc<crate::remote::RemoteLink>> {
+    s.shared.link.clone().ok_or_else(|| {
+        ApiError::new(
+            ErrorCode::Conflict,
+            format!(
+                "session {} drives a simulated robot; only a remote robot is asked",
+                s.id
+            ),
+        )
+        .field("robot")
+    })
+}
+
 /// The pending robot request (long poll).
 #[utoipa::path(get, path = "/v1/sessions/{id}/robot/next", params(NextQuery),
     responses((status = 200, body = RobotRequest), (status = 204, description = "nothing pending"),
@@ -273,13 +287,7 @@ pub async fn robot_next(
 ) -> Result<Response> {
     let q: NextQuery = query(q)?;
     let s = session(&state, &id)?;
-    let link = s.shared.link.clone().ok_or_else(|| {
-        ApiError::new(
-            ErrorCode::Conflict,
-            format!("session {id} drives a simulated robot; only a remote robot is asked"),
-        )
-        .field("robot")
-    })?;
+    let link = remote_link(&s)?;
     let wait = Duration::from_millis(q.timeout_ms.unwrap_or(0).min(60_000));
     let r = link.next(wait).await;
     s.touch();
@@ -298,13 +306,7 @@ pub async fn robot_answer(
     body: Bytes,
 ) -> Result<Json<serde_json::Value>> {
     let s = session(&state, &id)?;
-    let link = s.shared.link.clone().ok_or_else(|| {
-        ApiError::new(
-            ErrorCode::Conflict,
-            format!("session {id} drives a simulated robot; only a remote robot is asked"),
-        )
-        .field("robot")
-    })?;
+    let link = remote_link(&s)?;
     let rid: u64 = request_id.parse().map_err(|_| {
         ApiError::bad_request("request_id", format!("{request_id:?}: expected a number"))
     })?;
