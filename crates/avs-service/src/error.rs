@@ -126,7 +126,7 @@ fn field_of(path: &str, message: &str, root: &str) -> String {
 
 /// A request body read as JSON of type `T`, with errors that name the field (by
 /// `serde_path_to_error`) in the API's error shape.
-pub fn parse_json<T: serde::de::DeserializeOwned>(body: &[u8]) -> Result<T, ApiError> {
+pub fn parse_json<'a, T: serde::Deserialize<'a>>(body: &'a [u8]) -> Result<T, ApiError> {
     if body.iter().all(u8::is_ascii_whitespace) {
         return Err(ApiError::bad_request(
             "body",
@@ -154,13 +154,11 @@ pub fn parse_json<T: serde::de::DeserializeOwned>(body: &[u8]) -> Result<T, ApiE
     })
 }
 
-/// A JSON value read as type `T`, with errors naming the field under `at` (a robot's
-/// answer, e.g. `result.detections[0].pose.x`).
-pub fn from_value<T: serde::de::DeserializeOwned>(
-    at: &str,
-    v: &serde_json::Value,
-) -> Result<T, ApiError> {
-    serde_path_to_error::deserialize(v).map_err(|e| {
+/// JSON text read as type `T`, with errors naming the field under `at` (a robot's answer,
+/// e.g. `result.detections[0].pose.x`).
+pub fn from_str<T: serde::de::DeserializeOwned>(at: &str, text: &str) -> Result<T, ApiError> {
+    let de = &mut serde_json::Deserializer::from_str(text);
+    serde_path_to_error::deserialize(de).map_err(|e| {
         let path = e.path().to_string();
         let inner = e.into_inner().to_string();
         let field = field_of(&path, &inner, at);

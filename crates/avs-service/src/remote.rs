@@ -10,7 +10,7 @@
 //! open. Every exchange is kept ([`Exchange`]) for the session's snapshot, and a restored
 //! session replays them ([`RemoteRobot::replaying`]).
 
-use crate::error::{from_value, ApiError, ErrorCode};
+use crate::error::{from_str, ApiError, ErrorCode};
 use crate::grid::RosGrid;
 use avs_map::grid::{Cell, OccupancyGrid};
 use avs_robot::{
@@ -124,6 +124,25 @@ impl Answer {
     }
 }
 
+/// An answer as the client sent it: [`Answer`] with its `result` unread, to be read typed
+/// for the request's kind ([`RemoteLink::answer`]).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnswerWire<'a> {
+    /// The result, as sent.
+    #[serde(default, borrow)]
+    pub result: Option<&'a serde_json::value::RawValue>,
+    /// Why the call failed.
+    #[serde(default)]
+    pub failure: Option<ActionFailure>,
+    /// Where a failed call left the robot.
+    #[serde(default)]
+    pub pose: Option<Pose2D>,
+    /// Metres a failed call drove first.
+    #[serde(default)]
+    pub travelled: Option<f64>,
+}
+
 /// One request and the answer the agent got: the remote session's record.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Exchange {
@@ -145,6 +164,89 @@ struct MapUpdateWire {
     doors: Vec<DoorSighting>,
 }
 
+/// A map update's result as the session keeps it: the grid's `data` run-length encoded as
+/// `data_rle` (`[value, count, value, count, …]`). A floor's grid is long runs of unknown,
+/// free and occupied cells and a search asks for the map after every action: kept as JSON
+/// numbers, a 1000 × 1000 grid took 32 MB per update.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StoredMap {
+    grid: StoredGrid,
+    newly_known: usize,
+    #[serde(default)]
+    doors: Vec<DoorSighting>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StoredGrid {
+    info: crate::grid::MapInfo,
+    /// The cells as sent (a client's answer read back, an old record).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    data: Option<Vec<i8>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    data_rle: Option<Vec<i64>>,
+}
+
+impl MapUpdateWire {
+    /// The stored form: `data` run-length encoded.
+    fn stored(&self) -> Value {
+        let mut rle: Vec<i64> = Vec::new();
+        for &v in &self.grid.data {
+            match rle.len() {
+                n if n >= 2 && rle[n - 2] == i64::from(v) => rle[n - 1] += 1,
+                _ => rle.extend([i64::from(v), 1]),
+            }
+        }
+        serde_json::to_value(StoredMap {
+            grid: StoredGrid {
+                info: self.grid.info,
+                data: None,
+                data_rle: Some(rle),
+            },
+            newly_known: self.newly_known,
+            doors: self.doors.clone(),
+        })
+        .unwrap_or(Value::Null)
+    }
+
+    /// A map update from its stored (or sent) form; the runs may not add up to more cells
+    /// than the grid has.
+    fn from_stored(v: &Value) -> Result<Self, String> {
+        let m = StoredMap::deserialize(v).map_err(|e| format!("a stored map update: {e}"))?;
+        let cells = m.grid.info.width.saturating_mul(m.grid.info.height);
+        let data = match (m.grid.data, m.grid.data_rle) {
+            (Some(d), None) => d,
+            (None, Some(rle)) => {
+                if rle.len() % 2 != 0 {
+                    return Err("grid.data_rle: expected [value, count, …] pairs".into());
+                }
+                let mut d = Vec::new();
+                for pair in rle.chunks(2) {
+                    let (v, n) = (pair[0], pair[1]);
+                    let v = i8::try_from(v).map_err(|_| format!("grid.data_rle: value {v}"))?;
+                    if n < 0 || d.len() as i64 + n > cells as i64 {
+                        return Err(format!(
+                            "grid.data_rle: runs of more than info.width × info.height = {cells} cells"
+                        ));
+                    }
+                    d.extend(std::iter::repeat_n(v, n as usize));
+                }
+                d
+            }
+            _ => return Err("grid: expected exactly one of data and data_rle".into()),
+        };
+        Ok(Self {
+            grid: RosGrid {
+                info: m.grid.info,
+                data,
+            },
+            newly_known: m.newly_known,
+            doors: m.doors,
+        })
+    }
+}
+
 /// The result of a `classify_place` on the wire.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -152,18 +254,26 @@ struct Readings {
     readings: Vec<PlaceReading>,
 }
 
-/// Check `result` against the result type of `kind` and its values (finite poses, distances
-/// and times not negative, confidences in (0, 1]); errors name the field under `result`.
-fn check_result(kind: RequestKind, result: &Value) -> Result<(), ApiError> {
+/// Check `raw` (the answer's `result`, as sent) against the result type of `kind` and its
+/// values (finite poses, distances and times not negative, confidences in (0, 1]); errors name
+/// the field under `result`. The result as the session keeps it (a map update's grid
+/// run-length encoded): read typed straight from the text, a large grid costs a byte per
+/// cell, not a JSON value per cell.
+fn check_result(kind: RequestKind, raw: &str) -> Result<Value, ApiError> {
     let at = "result";
+    let keep = || {
+        serde_json::from_str::<Value>(raw)
+            .map_err(|e| ApiError::bad_request(at, format!("result: {e}")))
+    };
     match kind {
         RequestKind::MoveTo => {
-            let r: MoveReport = from_value(at, result)?;
+            let r: MoveReport = from_str(at, raw)?;
             pose_ok("result.pose", r.pose)?;
-            metres_ok("result.travelled", r.travelled)
+            metres_ok("result.travelled", r.travelled)?;
+            keep()
         }
         RequestKind::MapUpdate => {
-            let m: MapUpdateWire = from_value(at, result)?;
+            let m: MapUpdateWire = from_str(at, raw)?;
             m.grid
                 .to_grid("result.grid")
                 .map_err(|e| ApiError::bad_request(e.field.clone(), e.to_string()))?;
@@ -173,10 +283,10 @@ fn check_result(kind: RequestKind, result: &Value) -> Result<(), ApiError> {
                 }
                 metres_ok(&format!("result.doors[{i}].width"), d.width)?;
             }
-            Ok(())
+            Ok(m.stored())
         }
         RequestKind::ProcessViewCone => {
-            let r: ViewReport = from_value(at, result)?;
+            let r: ViewReport = from_str(at, raw)?;
             pose_ok("result.pose", r.pose)?;
             metres_ok("result.travelled", r.travelled)?;
             for (i, d) in r.detections.iter().enumerate() {
@@ -191,10 +301,10 @@ fn check_result(kind: RequestKind, result: &Value) -> Result<(), ApiError> {
                     ));
                 }
             }
-            Ok(())
+            keep()
         }
         RequestKind::ClassifyPlace => {
-            let r: Readings = from_value(at, result)?;
+            let r: Readings = from_str(at, raw)?;
             for (i, p) in r.readings.iter().enumerate() {
                 for (j, &l) in p.likelihood.iter().enumerate() {
                     if !(l.is_finite() && l >= 0.0) {
@@ -205,10 +315,10 @@ fn check_result(kind: RequestKind, result: &Value) -> Result<(), ApiError> {
                     }
                 }
             }
-            Ok(())
+            keep()
         }
         RequestKind::DetectorScores => {
-            let r: ScoreReport = from_value(at, result)?;
+            let r: ScoreReport = from_str(at, raw)?;
             pose_ok("result.pose", r.pose)?;
             metres_ok("result.travelled", r.travelled)?;
             metres_ok("result.detector_seconds", r.detector_seconds)?;
@@ -217,10 +327,10 @@ fn check_result(kind: RequestKind, result: &Value) -> Result<(), ApiError> {
                     finite_ok(&format!("result.scores[{i}]"), *z)?;
                 }
             }
-            Ok(())
+            keep()
         }
-        RequestKind::Attention => from_value::<AttentionReport>(at, result).map(drop),
-        RequestKind::Recognise => from_value::<RecognitionReport>(at, result).map(drop),
+        RequestKind::Attention => from_str::<AttentionReport>(at, raw).and_then(|_| keep()),
+        RequestKind::Recognise => from_str::<RecognitionReport>(at, raw).and_then(|_| keep()),
     }
 }
 
@@ -400,7 +510,7 @@ impl RemoteLink {
 
     /// Take the client's `answer` to request `id`: checked against the kind's result type
     /// (the request stays open when it does not fit).
-    pub fn answer(&self, id: u64, answer: Answer) -> Result<(), ApiError> {
+    pub fn answer(&self, id: u64, wire: AnswerWire<'_>) -> Result<(), ApiError> {
         let mut s = self.lock();
         let Some(o) = s.outstanding.as_ref() else {
             return Err(ApiError::new(
@@ -419,22 +529,28 @@ impl RemoteLink {
             )
             .field("request_id"));
         }
-        if let Some(p) = answer.pose {
+        if let Some(p) = wire.pose {
             pose_ok("pose", p)?;
         }
-        if let Some(t) = answer.travelled {
+        if let Some(t) = wire.travelled {
             metres_ok("travelled", t)?;
         }
-        match (&answer.result, &answer.failure) {
-            (Some(r), None) => check_result(o.request.kind, r)?,
-            (None, Some(_)) => {}
+        let result = match (wire.result, &wire.failure) {
+            (Some(r), None) => Some(check_result(o.request.kind, r.get())?),
+            (None, Some(_)) => None,
             _ => {
                 return Err(ApiError::bad_request(
                     "result",
                     "expected exactly one of `result` and `failure`",
                 ))
             }
-        }
+        };
+        let answer = Answer {
+            result,
+            failure: wire.failure,
+            pose: wire.pose,
+            travelled: wire.travelled,
+        };
         let o = s.outstanding.take().expect("checked above");
         drop(s);
         self.complete(o, answer);
@@ -616,7 +732,13 @@ impl Robot for RemoteRobot {
     }
 
     fn map_update(&mut self) -> MapUpdate {
-        match self.call::<MapUpdateWire>(RequestKind::MapUpdate, json!({})) {
+        let a = self.ask(RequestKind::MapUpdate, json!({}));
+        let m = match (a.result, a.failure) {
+            (_, Some(f)) => Err(f.to_string()),
+            (Some(r), None) => MapUpdateWire::from_stored(&r),
+            (None, None) => Err("an empty answer".into()),
+        };
+        match m {
             Ok(m) => match m.grid.to_grid("result.grid") {
                 Ok(grid) => {
                     self.grid = grid.clone();
@@ -793,5 +915,44 @@ pub fn answer_with(robot: &mut dyn Robot, request: &RobotRequest) -> Answer {
             Ok(a) => reply(robot.recognise(&a.cone, &a.class)),
             Err(e) => bad(e),
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn update(data: Vec<i8>, width: usize, height: usize) -> MapUpdateWire {
+        let g =
+            avs_map::grid::OccupancyGrid::new(width, height, 0.5, [0.0, 0.0], Cell::Free).unwrap();
+        let mut grid = RosGrid::from_grid(&g);
+        grid.data = data;
+        MapUpdateWire {
+            grid,
+            newly_known: 4,
+            doors: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn a_map_update_is_kept_run_length_encoded_and_read_back_whole() {
+        let m = update(vec![-1, -1, -1, 0, 0, 100], 3, 2);
+        let stored = m.stored();
+        assert_eq!(stored["grid"]["data_rle"], json!([-1, 3, 0, 2, 100, 1]));
+        assert!(stored["grid"].get("data").is_none());
+        assert_eq!(MapUpdateWire::from_stored(&stored).unwrap(), m);
+        // The form a client sends reads the same.
+        let sent = serde_json::to_value(&m).unwrap();
+        assert_eq!(MapUpdateWire::from_stored(&sent).unwrap(), m);
+    }
+
+    #[test]
+    fn runs_beyond_the_grid_are_refused_before_they_are_expanded() {
+        let mut stored = update(vec![0; 6], 3, 2).stored();
+        stored["grid"]["data_rle"] = json!([0, 1_000_000_000_000_i64]);
+        let e = MapUpdateWire::from_stored(&stored).unwrap_err();
+        assert!(e.contains("more than"), "{e}");
+        stored["grid"]["data_rle"] = json!([0, 3, 0]);
+        assert!(MapUpdateWire::from_stored(&stored).is_err());
     }
 }

@@ -6,7 +6,7 @@ use crate::api::{
     MapQuery, NextQuery, SessionInfo, SessionList, SessionMetrics, TraceQuery,
 };
 use crate::error::{parse_json, ApiError, ErrorCode};
-use crate::remote::{Answer, RobotRequest};
+use crate::remote::{Answer, AnswerWire, RobotRequest};
 use crate::session::Session;
 use crate::snapshot::{Snapshot, FORMAT};
 use crate::spec::Spec;
@@ -310,7 +310,7 @@ pub async fn robot_answer(
     let rid: u64 = request_id.parse().map_err(|_| {
         ApiError::bad_request("request_id", format!("{request_id:?}: expected a number"))
     })?;
-    let answer: Answer = parse_json(&body)?;
+    let answer: AnswerWire = parse_json(&body)?;
     link.answer(rid, answer)?;
     Ok(Json(serde_json::json!({ "accepted": rid })))
 }

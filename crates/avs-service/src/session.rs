@@ -230,12 +230,7 @@ impl Session {
                     to_run.push(i);
                 }
             }
-            replay_log = s
-                .robot_log
-                .iter()
-                .enumerate()
-                .map(|(i, e)| crate::snapshot::expand(e.clone(), i))
-                .collect::<Result<Vec<_>, String>>()?;
+            replay_log = s.robot_log.clone();
         }
         let robot_log = Arc::new(Mutex::new(Vec::new()));
         let link = (spec.robot == RobotKind::Remote).then(|| {
