@@ -58,6 +58,13 @@ pub struct PlaceholderBelief {
     pub at: [f64; 2],
     /// P(it leads to at least one new room).
     pub p_new_room: f64,
+    /// P(h1) … P(h6), the six structure hypotheses of `002` §III-A.1 (no new places; new
+    /// places, no new room; places leading to one new room; to a room and another beyond; a
+    /// new room directly; a new room directly leading to another; `avs_concepts::placeholder`),
+    /// summing to 1.
+    pub hypotheses: [f64; 6],
+    /// P(at least one object of the class behind it), for the beliefs' class.
+    pub p_object: Option<f64>,
     /// Per category k: P(some new room behind it is of category k), in the knowledge file's
     /// order (the `p-leads-to-room` of the planning problem).
     pub categories: Vec<CategoryBelief>,
@@ -144,7 +151,14 @@ pub(crate) fn beliefs_of(mem: &Memory, knowledge: &Knowledge, class: Option<&str
             Some(PlaceholderBelief {
                 name: names::placeholder(entry.id),
                 at: cand.pos,
-                p_new_room: cm.p_new_room(PlaceholderId(cand.cm_id)).unwrap_or(0.0),
+                p_new_room: h.p_new_room(),
+                hypotheses: h.probabilities,
+                p_object: class
+                    .filter(|c| knowledge.class(c).is_some())
+                    .and_then(|c| {
+                        cm.p_object_behind_placeholder(PlaceholderId(cand.cm_id), c)
+                            .ok()
+                    }),
                 categories: named(&h.p_category),
             })
         })

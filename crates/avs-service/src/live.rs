@@ -528,6 +528,8 @@ mod tests {
                 name: "placeholder3".into(),
                 at: [1.5, 1.0],
                 p_new_room: 0.6,
+                hypotheses: [0.1, 0.3, 0.4, 0.2, 0.0, 0.0],
+                p_object: None,
                 categories: vec![cat("office", 0.5), cat("kitchen", 0.1)],
             }],
             ..Beliefs::default()

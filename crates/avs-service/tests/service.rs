@@ -364,6 +364,18 @@ async fn a_sim_goal_reports_what_the_library_search_reports() {
         .unwrap()
         .iter()
         .any(|o| o["class"] == "cerealbox"));
+    for p in b["placeholders"].as_array().unwrap() {
+        let h: Vec<f64> = serde_json::from_value(p["hypotheses"].clone()).unwrap();
+        assert!((h.iter().sum::<f64>() - 1.0).abs() < 1e-9, "{p}");
+        let new_room: f64 = h[2..].iter().sum();
+        assert!(
+            (p["p_new_room"].as_f64().unwrap() - new_room).abs() < 1e-9,
+            "{p}"
+        );
+        assert!(p["p_object"]
+            .as_f64()
+            .is_some_and(|x| (0.0..=1.0).contains(&x)));
+    }
     let (_, m) = call(&app, "GET", &format!("/v1/sessions/{sid}/metrics"), None).await;
     assert_eq!(
         (m["goals"].as_u64(), m["found"].as_u64()),
