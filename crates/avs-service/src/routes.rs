@@ -151,13 +151,11 @@ pub async fn create(state: &AppState, req: CreateSession) -> Result<String> {
         state.config.robot_timeout,
     )
     .await
-    .map_err(|e| {
-        let field = if snapshot.is_some() {
-            "snapshot"
-        } else {
-            "robot"
-        };
-        ApiError::invalid(field, e)
+    .map_err(|e| match (e.field, snapshot.is_some()) {
+        ("", _) => ApiError::new(ErrorCode::Internal, e.message),
+        // A restore's inputs are inside the snapshot.
+        (_, true) => ApiError::invalid("snapshot", e.message),
+        (field, false) => ApiError::invalid(field, e.message),
     })?;
     state.insert(session);
     Ok(id)

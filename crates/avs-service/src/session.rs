@@ -175,10 +175,30 @@ pub struct Session {
     next_goal: AtomicU64,
 }
 
+/// Why a session could not start: the request key at fault (empty for a fault of the
+/// server) and what is wrong.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StartError {
+    /// The request key: `knowledge` (the agent refused it), `environment` (the simulated
+    /// robot did), `snapshot` (it does not replay); empty for the server's own fault.
+    pub field: &'static str,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl StartError {
+    fn new(field: &'static str, message: impl Into<String>) -> Self {
+        Self {
+            field,
+            message: message.into(),
+        }
+    }
+}
+
 /// A goal the worker runs first, before any posted one: a restored session's record.
 struct Start {
     goals: Vec<usize>,
-    ready: oneshot::Sender<Result<(), String>>,
+    ready: oneshot::Sender<Result<(), StartError>>,
 }
 
 impl Session {
@@ -191,13 +211,13 @@ impl Session {
         loaded: Loaded,
         restore: Option<&Snapshot>,
         robot_timeout: Duration,
-    ) -> Result<Arc<Session>, String> {
+    ) -> Result<Arc<Session>, StartError> {
         let agent = Agent::new(
             loaded.domain.clone(),
             loaded.knowledge.clone(),
             loaded.config.clone(),
         )
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| StartError::new("knowledge", e.to_string()))?;
         let classes = loaded
             .knowledge
             .object_classes
@@ -289,10 +309,10 @@ impl Session {
                     jobs_rx,
                 )
             })
-            .map_err(|e| format!("starting the session's thread: {e}"))?;
+            .map_err(|e| StartError::new("", format!("starting the session's thread: {e}")))?;
         ready_rx
             .await
-            .map_err(|_| "the session's thread stopped while starting".to_string())??;
+            .map_err(|_| StartError::new("", "the session's thread stopped while starting"))??;
         Ok(Arc::new(Session {
             id,
             spec,
@@ -488,7 +508,10 @@ fn worker(
             match SimAgentRobot::new(w, loaded.knowledge.clone(), SimRobotConfig::default(), seed) {
                 Ok(r) => Body::Sim(Box::new(r)),
                 Err(e) => {
-                    let _ = start.ready.send(Err(format!("the simulated robot: {e}")));
+                    let _ = start.ready.send(Err(StartError::new(
+                        "environment",
+                        format!("the simulated robot: {e}"),
+                    )));
                     return;
                 }
             }
@@ -505,9 +528,10 @@ fn worker(
             .replaying(replay_log),
         )),
         _ => {
-            let _ = start
-                .ready
-                .send(Err("a simulated robot needs an environment".into()));
+            let _ = start.ready.send(Err(StartError::new(
+                "environment",
+                "a simulated robot needs an environment",
+            )));
             return;
         }
     };
@@ -519,7 +543,7 @@ fn worker(
         }
         run_goal(&shared, &mut body, world.as_ref(), g);
         if let Some(e) = replay_mismatch(&shared, &body, g) {
-            replayed = Err(e);
+            replayed = Err(StartError::new("snapshot", e));
             break;
         }
     }
