@@ -230,23 +230,25 @@ impl Session {
         let mut to_run = Vec::new();
         if let Some(s) = restore {
             for (i, g) in s.goals.iter().enumerate() {
-                let ended = g.state.ended() && g.state != GoalState::Cancelled
-                    || g.state == GoalState::Cancelled && g.cancelled_at.is_some();
+                // Ended goals are replayed (a cancelled one to its recorded checkpoint), queued
+                // and running ones run again, one cancelled before it ran stays cancelled.
+                let replayed = match g.state {
+                    GoalState::Queued | GoalState::Running => false,
+                    GoalState::Cancelled => g.cancelled_at.is_some(),
+                    GoalState::Found | GoalState::NotFound | GoalState::Failed => true,
+                };
+                let runs = replayed || !g.state.ended();
                 goals.push(GoalEntry {
                     id: g.goal_id.clone(),
                     class: g.class.clone(),
                     also: g.also.clone(),
-                    state: if ended || !g.state.ended() {
-                        GoalState::Queued
-                    } else {
-                        g.state
-                    },
+                    state: if runs { GoalState::Queued } else { g.state },
                     report: None,
                     error: None,
                     cancelled_at: None,
-                    replay: ended.then(|| (g.trace.clone(), g.cancelled_at)),
+                    replay: replayed.then(|| (g.trace.clone(), g.cancelled_at)),
                 });
-                if ended || !g.state.ended() {
+                if runs {
                     to_run.push(i);
                 }
             }
