@@ -1145,3 +1145,25 @@ async fn a_session_restored_mid_goal_continues_its_goal_with_the_maps_it_had() {
         "the session had maps before the restart: {before}"
     );
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_robot_that_never_answers_times_out_and_the_goal_ends() {
+    let (_, app) = app(ServiceConfig {
+        robot_timeout: Duration::from_millis(20),
+        ..ServiceConfig::default()
+    });
+    let sid = create(
+        &app,
+        json!({ "robot": "remote", "start": { "x": 1.0, "y": 1.0, "yaw": 0.0 } }),
+    )
+    .await;
+    let gid = goal(&app, &sid, "mug").await;
+    let status = ended(&app, &sid, &gid).await;
+    assert_eq!(status["state"], "not_found", "{status}");
+    let (_, snap) = call(&app, "GET", &format!("/v1/sessions/{sid}/snapshot"), None).await;
+    let log = snap["robot_log"].as_array().unwrap();
+    assert!(!log.is_empty());
+    assert!(log.iter().all(|e| e["answer"]["failure"]["message"]
+        .as_str()
+        .is_some_and(|m| m.contains("did not answer"))));
+}
