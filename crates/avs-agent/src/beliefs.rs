@@ -1,11 +1,12 @@
 //! [`Beliefs`]: what the agent believes about the world right now, as plain data for a person
 //! or a tool — the rooms with their category distributions (`002` §III, the conceptual map's
-//! loopy BP marginals), the placeholders with their hypotheses (§III-B, the six hypotheses
-//! h1…h6 summed to P(a new room of category k)), the door hypotheses of the place map, the
+//! loopy BP marginals), the placeholders with their hypotheses (§III-A.1: the six structure
+//! hypotheses h1…h6, and from them P(a new room of category k)), the door hypotheses of the
+//! place map, the
 //! objects found, and P(ObjectAt L) of a class at every location (eq. 1–2 over the room
 //! posterior, rates thinned by failed searches).
 //!
-//! Names are the plan names ([`crate::binding`]'s `roomN`, `placeholderK`, `objectK`), so a
+//! Names are the plan names (`roomN`, `placeholderK`, `objectK`), so a
 //! belief can be matched with the plan and trace lines that use it. The beliefs are read, not
 //! recomputed: they are the marginals of the conceptual map's last inference, as the planner
 //! used them.

@@ -6,7 +6,7 @@
 //! each session has one worker thread that owns the robot and runs the goals in the order
 //! posted; the handlers never wait on it. What a search does reaches the handlers through
 //! the trace sink ([`avs_agent::TraceSink`]: events, beliefs before every plan, the stop
-//! check) and through a robot wrapper that records every call ([`Watched`]).
+//! check) and through a robot wrapper that records every call (`Watched`).
 //!
 //! **Cancelling** sets a flag the agent asks about before every plan and action (and the
 //! wrapper fails robot calls from then on; a remote robot's outstanding request fails at
