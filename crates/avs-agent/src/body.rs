@@ -202,20 +202,28 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
         r
     }
 
+    /// The one-shot detector's look: one image, counted when the robot took it (a view the
+    /// robot refused or failed processed no image).
+    fn one_shot(&mut self, cone: &ViewCone, classes: &[String]) -> ActionResult<ViewReport> {
+        let r = self.robot.process_view_cone(cone, classes);
+        if r.is_ok() {
+            self.images.0 += 1;
+        }
+        r
+    }
+
     /// [`Body::look`] without the booking: the zoom pipeline for the classes it has models of
     /// (Sjöö et al. `004` §3), the one-shot detector for the rest; a robot without the
     /// pipeline's images (`Unsupported`) gets the one-shot detector from then on.
     fn look_with_zoom(&mut self, cone: &ViewCone, classes: &[String]) -> ActionResult<ViewReport> {
         let Some((config, models)) = &self.zoom else {
-            self.images.0 += 1;
-            return self.robot.process_view_cone(cone, classes);
+            return self.one_shot(cone, classes);
         };
         let (zoomed, rest): (Vec<&String>, Vec<&String>) = classes
             .iter()
             .partition(|c| models.iter().any(|m| &m.class == *c));
         if zoomed.is_empty() {
-            self.images.0 += 1;
-            return self.robot.process_view_cone(cone, classes);
+            return self.one_shot(cone, classes);
         }
         let wanted: Vec<ObjectModel> = models
             .iter()
@@ -228,8 +236,7 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
             Err(ZoomError::Unsupported { message, .. }) => {
                 tracing::info!(%message, "the robot has no zoom pipeline: one-shot detector from now on");
                 self.zoom = None;
-                self.images.0 += 1;
-                return self.robot.process_view_cone(cone, classes);
+                return self.one_shot(cone, classes);
             }
             Err(ZoomError::Robot(f)) => return Err(f),
             Err(e) => {
@@ -255,8 +262,7 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
         let mut travelled = outcome.travelled;
         if !rest.is_empty() {
             let rest: Vec<String> = rest.into_iter().cloned().collect();
-            self.images.0 += 1;
-            let other = self.robot.process_view_cone(cone, &rest)?;
+            let other = self.one_shot(cone, &rest)?;
             detections.extend(other.detections);
             travelled += other.travelled;
         }
@@ -493,6 +499,22 @@ mod tests {
             .filter(|c| **c == Call::ClassifyPlace)
             .count();
         (ps, calls)
+    }
+
+    #[test]
+    fn a_view_the_robot_refused_processed_no_image() {
+        let mut robot = testing::robot(testing::room(4.0, 3.0), [1.0, 1.5]);
+        robot.script_view(Err(ActionFailure::new(
+            FailureReason::ExecutionFailed,
+            "camera fault",
+        )));
+        let mut body = Body::new(&mut robot);
+        let cone = ViewCone::new(Pose2D::new(1.0, 1.5, 0.0), 0.0, 0.0, 1.0);
+        let classes = ["mug".to_string()];
+        assert!(body.look(&cone, &classes).is_err());
+        assert_eq!(body.images().0, 0);
+        assert!(body.look(&cone, &classes).is_ok());
+        assert_eq!(body.images().0, 1);
     }
 
     #[test]
