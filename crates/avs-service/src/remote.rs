@@ -635,11 +635,6 @@ impl RemoteRobot {
         self
     }
 
-    /// Requests still to be replayed.
-    pub fn replay_left(&self) -> usize {
-        self.replay.len()
-    }
-
     fn can(&self, c: Capability) -> bool {
         self.capabilities.contains(&c)
     }

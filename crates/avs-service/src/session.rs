@@ -92,8 +92,6 @@ pub struct State {
     pub beliefs: Option<Beliefs>,
     /// When the session was last asked or did something.
     pub last_active: Instant,
-    /// Robot calls made.
-    pub requests: u64,
 }
 
 /// The part of a session the handlers and the worker share.
@@ -172,7 +170,6 @@ pub struct Session {
     /// The knowledge's object classes (goals name one).
     pub classes: Vec<String>,
     jobs: Mutex<Option<mpsc::Sender<usize>>>,
-    next_goal: AtomicU64,
 }
 
 /// Why a session could not start: the request key at fault (empty for a fault of the
@@ -268,7 +265,6 @@ impl Session {
                 live: Live::new(loaded.start, loaded.camera.hfov),
                 beliefs: None,
                 last_active: Instant::now(),
-                requests: 0,
             }),
             tx,
             cancel: AtomicBool::new(false),
@@ -277,15 +273,6 @@ impl Session {
             robot_log,
             calls: AtomicU64::new(0),
         });
-        let next_goal = restore
-            .map(|s| {
-                s.goals
-                    .iter()
-                    .filter_map(|g| g.goal_id.strip_prefix('g')?.parse::<u64>().ok())
-                    .max()
-                    .unwrap_or(0)
-            })
-            .unwrap_or(0);
         let (jobs_tx, jobs_rx) = mpsc::channel();
         let (ready_tx, ready_rx) = oneshot::channel();
         let worker_shared = shared.clone();
@@ -321,16 +308,21 @@ impl Session {
             shared,
             classes,
             jobs: Mutex::new(Some(jobs_tx)),
-            next_goal: AtomicU64::new(next_goal),
         }))
     }
 
     /// Post a goal; its id.
     pub fn post_goal(&self, class: String, also: Vec<String>) -> Result<String, String> {
-        let n = self.next_goal.fetch_add(1, Ordering::SeqCst) + 1;
-        let id = format!("g{n}");
-        let index = {
+        let (id, index) = {
             let mut st = self.shared.state();
+            // Goal ids count up from g1 (a restored session's goals keep theirs).
+            let n = st
+                .goals
+                .iter()
+                .filter_map(|g| g.id.strip_prefix('g')?.parse::<u64>().ok())
+                .max()
+                .unwrap_or(0);
+            let id = format!("g{}", n + 1);
             st.goals.push(GoalEntry {
                 id: id.clone(),
                 class,
@@ -344,7 +336,7 @@ impl Session {
             st.last_active = Instant::now();
             let g = st.goals.len() - 1;
             self.shared.push_goal(&st.goals[g]);
-            g
+            (id, g)
         };
         let jobs = relock(&self.jobs);
         match jobs.as_ref().map(|j| j.send(index)) {
@@ -628,7 +620,7 @@ fn run_goal(shared: &Arc<Shared>, body: &mut Body, world: Option<&World>, g: usi
     let start = body.robot().pose();
     let trail_from = match body {
         Body::Sim(r) => r.trail().len().saturating_sub(1),
-        Body::Remote(_) => shared.state().live.trail.len().saturating_sub(1),
+        Body::Remote(_) => 0,
     };
     let clock = Instant::now();
     let result = {
@@ -661,27 +653,21 @@ fn run_goal(shared: &Arc<Shared>, body: &mut Body, world: Option<&World>, g: usi
         }
     };
     let compute_s = clock.elapsed().as_secs_f64();
-    let trail: Vec<[f64; 2]> = match body {
-        Body::Sim(r) => r.trail().get(trail_from..).unwrap_or_default().to_vec(),
-        Body::Remote(_) => shared
-            .state()
-            .live
-            .trail
-            .get(trail_from..)
-            .unwrap_or_default()
-            .to_vec(),
+    // The truth to score against and the robot's path over it: the simulated world and its
+    // trail; a remote robot's world is not the environment file (only its camera and start are
+    // used), so nothing is scored against a truth the server does not have.
+    let (truth, trail): (Option<&World>, Vec<[f64; 2]>) = match body {
+        Body::Sim(r) => (
+            world,
+            r.trail().get(trail_from..).unwrap_or_default().to_vec(),
+        ),
+        Body::Remote(_) => (None, Vec::new()),
     };
     let mut st = shared.state();
     let entry = &mut st.goals[g];
     entry.cancelled_at = checks.seen_at.get();
     match result {
         Ok(report) => {
-            // A remote robot's world is not the environment file (only its camera and start
-            // are used): nothing is scored against a truth the server does not have.
-            let truth = match body {
-                Body::Sim(_) => world,
-                Body::Remote(_) => None,
-            };
             let summary = avs_eval::episode::summarize(
                 truth,
                 &class,
@@ -803,7 +789,6 @@ impl Watched<'_> {
         self.shared.calls.fetch_add(1, Ordering::Relaxed);
         {
             let mut st = self.shared.state();
-            st.requests += 1;
             st.last_active = Instant::now();
             st.live.robot_at(pose, odometry);
             if let Some(g) = grid {
