@@ -412,15 +412,8 @@ pub async fn map_svg(
 ) -> Result<Response> {
     let q: MapQuery = query(q)?;
     let s = session(&state, &id)?;
-    let (live, mut beliefs) = {
-        let st = s.shared.state();
-        (st.live.clone(), st.beliefs.clone())
-    };
-    if beliefs.is_none() {
-        if let Ok(agent) = s.shared.agent.try_lock() {
-            beliefs = agent.beliefs(None);
-        }
-    }
+    let live = s.shared.state().live.clone();
+    let beliefs = s.beliefs(None);
     let svg = crate::live::render_svg(&live, beliefs.as_ref(), q.plan.unwrap_or(true));
     Ok(([(header::CONTENT_TYPE, "image/svg+xml")], svg).into_response())
 }
@@ -441,17 +434,7 @@ pub async fn beliefs(
             format!("{c:?} is not an object class of the session's knowledge"),
         ));
     }
-    let (last_class, pushed) = {
-        let st = s.shared.state();
-        (st.goals.last().map(|g| g.class.clone()), st.beliefs.clone())
-    };
-    let class = q.class.or(last_class);
-    // Idle: ask the agent (any class); running: what it handed over before its last plan.
-    let fresh = match s.shared.agent.try_lock() {
-        Ok(agent) => agent.beliefs(class.as_deref()),
-        Err(_) => None,
-    };
-    let b = fresh.or(pushed).unwrap_or_default();
+    let b = s.beliefs(q.class.as_deref()).unwrap_or_default();
     Ok(Json(serde_json::to_value(b).unwrap_or_default()))
 }
 

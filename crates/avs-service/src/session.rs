@@ -418,9 +418,23 @@ impl Session {
         self.shared.calls.load(Ordering::Relaxed)
     }
 
+    /// The agent's beliefs with object probabilities for `class` (default: the last goal's):
+    /// between goals asked of the agent; while a goal runs (the agent is busy), as it handed
+    /// them over before its last plan (for that goal's class). `None` before the first search.
+    pub fn beliefs(&self, class: Option<&str>) -> Option<Beliefs> {
+        let (last_class, pushed) = {
+            let st = self.shared.state();
+            (st.goals.last().map(|g| g.class.clone()), st.beliefs.clone())
+        };
+        match self.shared.agent.try_lock() {
+            Ok(agent) => agent.beliefs(class.or(last_class.as_deref())).or(pushed),
+            Err(_) => pushed,
+        }
+    }
+
     /// The session's snapshot; see [`Snapshot`].
     pub fn snapshot(&self) -> Snapshot {
-        let (goals, live, beliefs) = {
+        let (goals, live) = {
             let st = self.shared.state();
             let goals = st
                 .goals
@@ -442,12 +456,9 @@ impl Session {
                         .collect(),
                 })
                 .collect();
-            (goals, st.live.summary(), st.beliefs.clone())
+            (goals, st.live.summary())
         };
-        let beliefs = match self.shared.agent.try_lock() {
-            Ok(agent) => agent.beliefs(None).or(beliefs),
-            Err(_) => beliefs,
-        };
+        let beliefs = self.beliefs(None);
         Snapshot::new(
             self.spec.clone(),
             goals,
