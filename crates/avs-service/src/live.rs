@@ -8,7 +8,8 @@ use avs_agent::{Beliefs, Event};
 use avs_map::grid::{Cell, OccupancyGrid};
 use avs_robot::Pose2D;
 use serde::Serialize;
-use std::fmt::Write;
+use svg::node::element::{Circle, Group, Line, Path, Polygon, Polyline, Rectangle, Text, Title};
+use svg::Document;
 
 /// Cones kept for the picture (the newest).
 const MAX_CONES: usize = 400;
@@ -206,12 +207,37 @@ const PALETTE: [&str; 8] = [
 /// Pixels per metre.
 const SCALE: f64 = 40.0;
 
-/// Escape text for SVG.
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
+/// A coordinate or length rounded to a tenth of a pixel (the picture's precision).
+fn r1(x: f64) -> f64 {
+    (x * 10.0).round() / 10.0
+}
+
+/// `points` as an SVG `points` attribute.
+fn points(ps: &[(f64, f64)]) -> String {
+    ps.iter()
+        .map(|(x, y)| format!("{},{}", r1(*x), r1(*y)))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// The picture's frame: world metres to pixels, y up in the world and down in the picture.
+struct Frame {
+    x0: f64,
+    y1: f64,
+}
+
+impl Frame {
+    fn px(&self, x: f64) -> f64 {
+        r1((x - self.x0) * SCALE)
+    }
+
+    fn py(&self, y: f64) -> f64 {
+        r1((self.y1 - y) * SCALE)
+    }
+
+    fn at(&self, p: [f64; 2]) -> (f64, f64) {
+        (self.px(p[0]), self.py(p[1]))
+    }
 }
 
 /// The picture of `live` with `beliefs` (rooms, placeholders, doors) as an SVG document, with
@@ -232,37 +258,36 @@ pub fn render_svg(live: &Live, beliefs: Option<&Beliefs>, plan: bool) -> String 
             ys.push(p[1]);
         }
     }
-    let fold = |v: &[f64], f: fn(f64, f64) -> f64, init: f64| v.iter().copied().fold(init, f);
-    let (x0, x1) = (
-        fold(&xs, f64::min, f64::INFINITY) - 0.5,
-        fold(&xs, f64::max, f64::NEG_INFINITY) + 0.5,
-    );
-    let (y0, y1) = (
-        fold(&ys, f64::min, f64::INFINITY) - 0.5,
-        fold(&ys, f64::max, f64::NEG_INFINITY) + 0.5,
-    );
+    let lo = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min) - 0.5;
+    let hi = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max) + 0.5;
+    let (x0, x1, y0, y1) = (lo(&xs), hi(&xs), lo(&ys), hi(&ys));
+    let f = Frame { x0, y1 };
     // The plan is listed under the drawing, one line per step.
     let plan_h = if live.plan.is_empty() || !plan {
         0.0
     } else {
         10.0 + 13.0 * live.plan.len() as f64
     };
-    let (w, map_h) = ((x1 - x0) * SCALE, (y1 - y0) * SCALE);
+    let (w, map_h) = (r1((x1 - x0) * SCALE), r1((y1 - y0) * SCALE));
     let h = map_h + plan_h;
-    let px = |x: f64| (x - x0) * SCALE;
-    let py = |y: f64| (y1 - y) * SCALE;
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {w:.0} {h:.0}" width="{w:.0}" height="{h:.0}" font-family="sans-serif" font-size="11">"#
-    );
-    let _ = writeln!(s, r##"<rect width="100%" height="100%" fill="#d9d9d9"/>"##);
+    let mut doc = Document::new()
+        .set("viewBox", (0, 0, w, h))
+        .set("width", w)
+        .set("height", h)
+        .set("font-family", "sans-serif")
+        .set("font-size", 11)
+        .add(
+            Rectangle::new()
+                .set("width", "100%")
+                .set("height", "100%")
+                .set("fill", "#d9d9d9"),
+        );
     // The map: runs of free and occupied cells along each row.
     if let Some(g) = &live.grid {
         let r = g.resolution();
         let [ox, oy] = g.origin();
         for (cell, fill) in [(Cell::Free, "#ffffff"), (Cell::Occupied, "#222222")] {
-            let _ = write!(s, r#"<g fill="{fill}">"#);
+            let mut layer = Group::new().set("fill", fill);
             for row in 0..g.height() {
                 let mut col = 0;
                 while col < g.width() {
@@ -275,33 +300,31 @@ pub fn render_svg(live: &Live, beliefs: Option<&Beliefs>, plan: bool) -> String 
                         col += 1;
                     }
                     let (x, y) = (ox + start as f64 * r, oy + (row + 1) as f64 * r);
-                    let _ = write!(
-                        s,
-                        r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}"/>"#,
-                        px(x),
-                        py(y),
-                        (col - start) as f64 * r * SCALE + 0.3,
-                        r * SCALE + 0.3
+                    layer = layer.add(
+                        Rectangle::new()
+                            .set("x", f.px(x))
+                            .set("y", f.py(y))
+                            .set("width", r1((col - start) as f64 * r * SCALE + 0.3))
+                            .set("height", r1(r * SCALE + 0.3)),
                     );
                 }
             }
-            let _ = writeln!(s, "</g>");
+            doc = doc.add(layer);
         }
     }
     if let Some(b) = beliefs {
-        rooms(&mut s, b, &px, &py);
+        doc = rooms(doc, b, &f);
     }
     // The trail.
     if live.trail.len() > 1 {
-        let pts: Vec<String> = live
-            .trail
-            .iter()
-            .map(|p| format!("{:.1},{:.1}", px(p[0]), py(p[1])))
-            .collect();
-        let _ = writeln!(
-            s,
-            r##"<polyline points="{}" fill="none" stroke="#1f77b4" stroke-width="2" opacity="0.7"/>"##,
-            pts.join(" ")
+        let ps: Vec<(f64, f64)> = live.trail.iter().map(|p| f.at(*p)).collect();
+        doc = doc.add(
+            Polyline::new()
+                .set("points", points(&ps))
+                .set("fill", "none")
+                .set("stroke", "#1f77b4")
+                .set("stroke-width", 2)
+                .set("opacity", 0.7),
         );
     }
     // Looks: a wedge each, green when the class was seen.
@@ -313,36 +336,42 @@ pub fn render_svg(live: &Live, beliefs: Option<&Beliefs>, plan: bool) -> String 
             (false, true) => "#9467bd",
             (false, false) => "#ffbf00",
         };
-        let _ = writeln!(
-            s,
-            r#"<polygon points="{:.1},{:.1} {:.1},{:.1} {:.1},{:.1}" fill="{fill}" opacity="0.25"/>"#,
-            px(c.at[0]),
-            py(c.at[1]),
-            px(c.at[0] + reach * a.cos()),
-            py(c.at[1] + reach * a.sin()),
-            px(c.at[0] + reach * b.cos()),
-            py(c.at[1] + reach * b.sin())
+        let ps = [
+            f.at(c.at),
+            f.at([c.at[0] + reach * a.cos(), c.at[1] + reach * a.sin()]),
+            f.at([c.at[0] + reach * b.cos(), c.at[1] + reach * b.sin()]),
+        ];
+        doc = doc.add(
+            Polygon::new()
+                .set("points", points(&ps))
+                .set("fill", fill)
+                .set("opacity", 0.25),
         );
     }
     // Candidates: open while undecided, then a tick or a cross.
     for c in &live.candidates {
-        let (x, y) = (px(c.at[0]), py(c.at[1]));
+        let (x, y) = f.at(c.at);
         let (stroke, word) = match c.accepted {
             None => ("#ff7f0e", "undecided"),
             Some(true) => ("#2ca02c", "accepted"),
             Some(false) => ("#d62728", "rejected"),
         };
-        let _ = writeln!(
-            s,
-            r#"<circle cx="{x:.1}" cy="{y:.1}" r="7" fill="none" stroke="{stroke}" stroke-width="2"><title>candidate {} at ({:.2}, {:.2}): {word}</title></circle>"#,
-            esc(&c.class),
-            c.at[0],
-            c.at[1]
+        doc = doc.add(
+            Circle::new()
+                .set("cx", x)
+                .set("cy", y)
+                .set("r", 7)
+                .set("fill", "none")
+                .set("stroke", stroke)
+                .set("stroke-width", 2)
+                .add(Title::new(format!(
+                    "candidate {} at ({:.2}, {:.2}): {word}",
+                    c.class, c.at[0], c.at[1]
+                ))),
         );
         if c.accepted == Some(false) {
-            let _ = writeln!(
-                s,
-                r#"<path d="M{:.1},{:.1} L{:.1},{:.1} M{:.1},{:.1} L{:.1},{:.1}" stroke="{stroke}" stroke-width="2"/>"#,
+            let d = format!(
+                "M{},{} L{},{} M{},{} L{},{}",
                 x - 5.0,
                 y - 5.0,
                 x + 5.0,
@@ -352,74 +381,90 @@ pub fn render_svg(live: &Live, beliefs: Option<&Beliefs>, plan: bool) -> String 
                 x + 5.0,
                 y - 5.0
             );
-        }
-    }
-    // Objects found by the agent (landmarks and targets) and reported.
-    if let Some(b) = beliefs {
-        for o in &b.objects {
-            let _ = writeln!(
-                s,
-                r##"<rect x="{:.1}" y="{:.1}" width="6" height="6" fill="#8c564b"><title>{} {} at ({:.2}, {:.2}, {:.2})</title></rect>"##,
-                px(o.at[0]) - 3.0,
-                py(o.at[1]) - 3.0,
-                esc(&o.name),
-                esc(&o.class),
-                o.at[0],
-                o.at[1],
-                o.at[2]
+            doc = doc.add(
+                Path::new()
+                    .set("d", d)
+                    .set("stroke", stroke)
+                    .set("stroke-width", 2),
             );
         }
     }
+    // Objects found by the agent (landmarks and targets) and reported.
+    for o in beliefs.iter().flat_map(|b| &b.objects) {
+        let (x, y) = f.at([o.at[0], o.at[1]]);
+        doc = doc.add(
+            Rectangle::new()
+                .set("x", x - 3.0)
+                .set("y", y - 3.0)
+                .set("width", 6)
+                .set("height", 6)
+                .set("fill", "#8c564b")
+                .add(Title::new(format!(
+                    "{} {} at ({:.2}, {:.2}, {:.2})",
+                    o.name, o.class, o.at[0], o.at[1], o.at[2]
+                ))),
+        );
+    }
     for (p, name) in &live.found {
-        let _ = writeln!(
-            s,
-            r##"<circle cx="{:.1}" cy="{:.1}" r="9" fill="#2ca02c" stroke="#000"><title>reported {} at ({:.2}, {:.2}, {:.2})</title></circle>"##,
-            px(p[0]),
-            py(p[1]),
-            esc(name),
-            p[0],
-            p[1],
-            p[2]
+        let (x, y) = f.at([p[0], p[1]]);
+        doc = doc.add(
+            Circle::new()
+                .set("cx", x)
+                .set("cy", y)
+                .set("r", 9)
+                .set("fill", "#2ca02c")
+                .set("stroke", "#000")
+                .add(Title::new(format!(
+                    "reported {name} at ({:.2}, {:.2}, {:.2})",
+                    p[0], p[1], p[2]
+                ))),
         );
     }
     // The robot: a triangle pointing along its heading.
     let (x, y, yaw) = (live.pose.x, live.pose.y, live.pose.yaw);
-    let tip = |d: f64, a: f64| format!("{:.1},{:.1}", px(x + d * a.cos()), py(y + d * a.sin()));
-    let _ = writeln!(
-        s,
-        r##"<polygon points="{} {} {}" fill="#d62728" stroke="#000"><title>robot at ({x:.2}, {y:.2}), heading {:.0}°; {:.1} m driven</title></polygon>"##,
-        tip(0.45, yaw),
-        tip(0.3, yaw + 2.5),
-        tip(0.3, yaw - 2.5),
-        yaw.to_degrees(),
-        live.odometry
+    let tip = |d: f64, a: f64| f.at([x + d * a.cos(), y + d * a.sin()]);
+    doc = doc.add(
+        Polygon::new()
+            .set(
+                "points",
+                points(&[tip(0.45, yaw), tip(0.3, yaw + 2.5), tip(0.3, yaw - 2.5)]),
+            )
+            .set("fill", "#d62728")
+            .set("stroke", "#000")
+            .add(Title::new(format!(
+                "robot at ({x:.2}, {y:.2}), heading {:.0}°; {:.1} m driven",
+                yaw.to_degrees(),
+                live.odometry
+            ))),
     );
     // The current plan, under the map.
     if plan && !live.plan.is_empty() {
-        let _ = writeln!(
-            s,
-            r##"<g class="plan"><rect x="0" y="{map_h:.0}" width="{w:.0}" height="{plan_h:.0}" fill="#f4f4f4"/>"##
+        let mut list = Group::new().set("class", "plan").add(
+            Rectangle::new()
+                .set("x", 0)
+                .set("y", map_h)
+                .set("width", w)
+                .set("height", plan_h)
+                .set("fill", "#f4f4f4"),
         );
         for (i, step) in live.plan.iter().enumerate() {
             let current = live.step.as_deref() == Some(step.as_str());
-            let _ = writeln!(
-                s,
-                r##"<text x="6" y="{:.0}" fill="{}" font-weight="{}">{}</text>"##,
-                map_h + 16.0 + 13.0 * i as f64,
-                if current { "#d62728" } else { "#333" },
-                if current { "bold" } else { "normal" },
-                esc(step)
+            list = list.add(
+                Text::new(step.as_str())
+                    .set("x", 6)
+                    .set("y", r1(map_h + 16.0 + 13.0 * i as f64))
+                    .set("fill", if current { "#d62728" } else { "#333" })
+                    .set("font-weight", if current { "bold" } else { "normal" }),
             );
         }
-        let _ = writeln!(s, "</g>");
+        doc = doc.add(list);
     }
-    s.push_str("</svg>\n");
-    s
+    format!("{doc}\n")
 }
 
 /// Rooms (their places as discs in the likeliest category's colour, the distribution on
 /// hover), placeholders and doors.
-fn rooms(s: &mut String, b: &Beliefs, px: &dyn Fn(f64) -> f64, py: &dyn Fn(f64) -> f64) {
+fn rooms(mut doc: Document, b: &Beliefs, f: &Frame) -> Document {
     let categories: Vec<&str> = b
         .rooms
         .first()
@@ -444,59 +489,62 @@ fn rooms(s: &mut String, b: &Beliefs, px: &dyn Fn(f64) -> f64, py: &dyn Fn(f64) 
         let Some(top) = r.categories.iter().max_by(|a, b| a.p.total_cmp(&b.p)) else {
             continue;
         };
-        let _ = write!(
-            s,
-            r#"<g class="room" fill="{}" opacity="{:.2}"><title>{}: {}</title>"#,
-            colour(&top.category),
-            0.2 + 0.35 * top.p,
-            esc(&r.name),
-            esc(&dist(&r.categories))
-        );
+        let mut g = Group::new()
+            .set("class", "room")
+            .set("fill", colour(&top.category))
+            .set("opacity", r1(100.0 * (0.2 + 0.35 * top.p)) / 100.0)
+            .add(Title::new(format!("{}: {}", r.name, dist(&r.categories))));
         for p in &r.places {
-            let _ = write!(
-                s,
-                r#"<circle cx="{:.1}" cy="{:.1}" r="{:.1}"/>"#,
-                px(p[0]),
-                py(p[1]),
-                0.75 * SCALE
+            let (x, y) = f.at(*p);
+            g = g.add(
+                Circle::new()
+                    .set("cx", x)
+                    .set("cy", y)
+                    .set("r", 0.75 * SCALE),
             );
         }
-        let _ = writeln!(s, "</g>");
+        doc = doc.add(g);
     }
     for d in &b.doors {
         let [a, c] = d.jambs;
-        let _ = writeln!(
-            s,
-            r##"<line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{}" stroke-width="4"><title>door hypothesis at ({:.2}, {:.2}), {:.2} m wide{}</title></line>"##,
-            px(a[0]),
-            py(a[1]),
-            px(c[0]),
-            py(c[1]),
-            if d.confirmed { "#2ca02c" } else { "#ff7f0e" },
-            d.at[0],
-            d.at[1],
-            d.width,
-            if d.confirmed { ", passed through" } else { "" }
+        let ((xa, ya), (xc, yc)) = (f.at(a), f.at(c));
+        doc = doc.add(
+            Line::new()
+                .set("x1", xa)
+                .set("y1", ya)
+                .set("x2", xc)
+                .set("y2", yc)
+                .set("stroke", if d.confirmed { "#2ca02c" } else { "#ff7f0e" })
+                .set("stroke-width", 4)
+                .add(Title::new(format!(
+                    "door hypothesis at ({:.2}, {:.2}), {:.2} m wide{}",
+                    d.at[0],
+                    d.at[1],
+                    d.width,
+                    if d.confirmed { ", passed through" } else { "" }
+                ))),
         );
     }
     for p in &b.placeholders {
-        let (x, y) = (px(p.at[0]), py(p.at[1]));
-        let _ = writeln!(
-            s,
-            r##"<polygon points="{:.1},{:.1} {:.1},{:.1} {:.1},{:.1} {:.1},{:.1}" fill="#ffffff" stroke="#e377c2" stroke-width="2"><title>{}: P(new room) {:.2}; {}</title></polygon>"##,
-            x,
-            y - 7.0,
-            x + 7.0,
-            y,
-            x,
-            y + 7.0,
-            x - 7.0,
-            y,
-            esc(&p.name),
-            p.p_new_room,
-            esc(&dist(&p.categories))
+        let (x, y) = f.at(p.at);
+        doc = doc.add(
+            Polygon::new()
+                .set(
+                    "points",
+                    points(&[(x, y - 7.0), (x + 7.0, y), (x, y + 7.0), (x - 7.0, y)]),
+                )
+                .set("fill", "#ffffff")
+                .set("stroke", "#e377c2")
+                .set("stroke-width", 2)
+                .add(Title::new(format!(
+                    "{}: P(new room) {:.2}; {}",
+                    p.name,
+                    p.p_new_room,
+                    dist(&p.categories)
+                ))),
         );
     }
+    doc
 }
 
 #[cfg(test)]
