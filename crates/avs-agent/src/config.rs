@@ -13,8 +13,17 @@ use serde::Serialize;
 pub struct AgentConfig {
     /// Place map parameters (place spacing, door widths).
     pub places: PlaceMapParams,
-    /// Continual planner settings (search, success threshold, assumption bound).
+    /// Continual planner settings (search, success threshold, assumption bound, and which
+    /// plan to start: `planner.objective`, the paper's fixed R by default, or the plan with
+    /// the most success per unit of cost, `avs_plan::continual::Objective::Ratio`).
     pub planner: ContinualOptions,
+    /// Count the landmarks not found yet in a room's probability of holding the object, and
+    /// all a room behind a placeholder is expected to hold (`002` §III-A's whole hierarchy;
+    /// `avs_concepts::ConceptualMap::set_unfound_landmarks`). Off by default: with it, and with
+    /// the ratio objective that it needs not to wander, the Fig. 3 runs improve but the fixed
+    /// verification rule accepts more look-alikes (BENCHMARKS.md, issue 17 session: the whole
+    /// hierarchy of a room).
+    pub unfound_landmarks: bool,
     /// View-cone POMDP session settings.
     pub session: SessionOptions,
     /// Give up after this many plans.
@@ -138,6 +147,7 @@ impl Default for AgentConfig {
                 o.min_success = 0.002;
                 o
             },
+            unfound_landmarks: false,
             session: {
                 // A smaller offline budget than the solver's default: a session over 24 cones
                 // has 625 product states, and the online look-ahead refines the bounds anyway.

@@ -171,6 +171,9 @@ impl Agent {
             body = body.with_zoom(self.config.zoom, models);
         }
         let start_odo = body.odometry();
+        // A new goal's plans start from the configured reward, not from the last goal's.
+        self.planner.reset_objective();
+        self.fallback.reset_objective();
         let mut run = Run::new(sink, self.config.tuning.cover_key_resolution);
         run.emit(Event::Started {
             goal: goal.class.clone(),
@@ -183,7 +186,9 @@ impl Agent {
         let mem = match &mut self.memory {
             Some(m) => m,
             slot => {
-                let wm = WorldModel::new("knowledge", cx.knowledge, cx.config.places.clone())?;
+                let mut wm = WorldModel::new("knowledge", cx.knowledge, cx.config.places.clone())?;
+                wm.concepts
+                    .set_unfound_landmarks(cx.config.unfound_landmarks);
                 let grid = body.laser_map();
                 let mem = slot.insert(Memory::new(
                     wm,

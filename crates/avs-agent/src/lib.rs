@@ -85,7 +85,15 @@
 //! * **Probabilities** come from the conceptual map: P_category(placeholder) for
 //!   `p-leads-to-room`, the room posterior for `p-category`, P(n ≥ 1) = 1 − e^{−λ} per category
 //!   for `p-object-in`/`p-object-on`/`p-object-inside` (Aydemir et al. 2011, §III-A, eq. 1–2; rates thinned by
-//!   failed searches), 1 − false-negative rate for `p-detect` and `p-detect-in`. A search of a
+//!   failed searches). With `AgentConfig::unfound_landmarks` a room's rate is that of its
+//!   whole hierarchy, as §III-A adds the λ of a location and its subordinate locations: its
+//!   open space, the landmarks found in it, and the landmarks not found yet (each landmark
+//!   class's expected unfound instances, thinned by the looks that counted that class, each
+//!   holding the object with 1 − e^{−ν}; see `avs_concepts::Model::unseen_room_rates`); a
+//!   room behind a placeholder then holds a cereal box with 0.58 with the shipped knowledge,
+//!   not the 0.095 of its open space alone. Off by default (and best with the planner's ratio
+//!   objective, `avs_plan::continual::Objective::Ratio`): BENCHMARKS.md has both measured.
+//!   1 − false-negative rate for `p-detect` and `p-detect-in`. A search of a
 //!   room that made no progress — no view cone saw any of its points, so nothing was learnt and
 //!   the belief is unchanged — is a monitored failure ([`ReplanReason::NoProgress`]): its cones
 //!   are dropped and `p-detect-in` of that class and room is 0 until the room's known map grows

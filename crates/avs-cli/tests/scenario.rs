@@ -1,5 +1,6 @@
-//! `avs scenario FILE... [--json]`: per-property PASS/FAIL from any directory, the JSON
-//! contract `{"scenarios": [{"file", "properties": [{"name", "pass", "detail"}]}]}`, and the
+//! `avs scenario FILE... [--seed N,...] [--json]`: per-property PASS/FAIL from any directory,
+//! the JSON contract `{"scenarios": [{"file", "seed", "properties": [{"name", "pass",
+//! "detail"}]}]}`, and the
 //! exit status (0 all hold, 3 one fails, 1 a file that cannot be run).
 
 mod common;
@@ -50,6 +51,31 @@ fn a_scenario_copied_elsewhere_runs_from_there_and_passes_with_exit_0() {
         props.iter().any(|p| p["name"] == "no_wrong_report"),
         "{v:#}"
     );
+}
+
+#[test]
+fn seed_runs_each_file_once_per_seed_and_names_the_seed() {
+    let file = repo().join("tests/plan_traces/fig3d_office_stapler.yaml");
+    let out = avs_in(
+        &repo(),
+        &[
+            "scenario",
+            file.to_str().unwrap(),
+            "--seed",
+            "2,3",
+            "--json",
+        ],
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let v: serde_json::Value = serde_json::from_str(&stdout).expect("--json prints JSON");
+    let runs = v["scenarios"].as_array().unwrap();
+    let seeds: Vec<u64> = runs.iter().map(|r| r["seed"].as_u64().unwrap()).collect();
+    assert_eq!(seeds, [2, 3], "{v:#}");
+    assert!(runs.iter().all(|r| r["file"] == runs[0]["file"]), "{v:#}");
+    // Without --seed the file's own seed is reported.
+    let out = avs_in(&repo(), &["scenario", file.to_str().unwrap(), "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["scenarios"][0]["seed"], 1, "{v:#}");
 }
 
 #[test]

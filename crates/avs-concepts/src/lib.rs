@@ -45,8 +45,19 @@
 //!   a room's rate of class c is thinned by U as by a failed search (a look around that saw
 //!   no shelf leaves 1 − 0.64 of the rate, not all of it, for a search to hunt).
 //! * **P(ObjectAt L)** (eq. 1–2): Σ_k P(k | room) (1 − exp(−λ_{L,c,k})). A room's rate is its own
-//!   rate plus the rates of every known landmark location in it (rates add over the hierarchy,
-//!   §III-A); a landmark location's rate is λ(object, relation, landmark class, k).
+//!   rate plus the rates of every subordinate location (rates add over the hierarchy, §III-A):
+//!   every known landmark location in it, λ(object, relation, landmark class, k), and, with
+//!   [`ConceptualMap::set_unfound_landmarks`] (off by default; the agent's
+//!   `AgentConfig::unfound_landmarks`), the landmarks not found yet. Those are a Poisson
+//!   population too (the landmark class's room
+//!   rate μ_k, thinned by the looks that counted the class and by failed searches for it, as
+//!   for any object), each holding a Poisson(ν_k) number of the object; the object's count
+//!   over them is compound Poisson with P(none) = exp(−μ_k (1 − e^{−ν_k})), so they add
+//!   μ_k (1 − e^{−ν_k}) (the paper's μ_k ν_k for small ν). A failed search of the room for the
+//!   object thins them as it thins the room's own rate. A room behind a placeholder, with no
+//!   landmark known, gets the whole expectation ([`Model::unseen_room_rates`]). Our choice: the
+//!   category evidence of a failed search (below) keeps to the room's own rate and the known
+//!   landmarks.
 //! * **Failed search** of L for c with detection probability q: the Poisson process is thinned,
 //!   λ ← (1 − q) λ, and the failure is evidence exp(−q λ_k) for the room's category. Searching a
 //!   room searches its landmark locations too. Merging rooms averages their unsearched shares

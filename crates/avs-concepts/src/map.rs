@@ -94,6 +94,8 @@ pub struct ConceptualMap {
     node_ids: Vec<RoomId>,
     node_of: HashMap<RoomId, usize>,
     stats: InferenceStats,
+    /// Whether a room's rate counts the landmarks not found yet ([`Self::set_unfound_landmarks`]).
+    unfound_landmarks: bool,
     /// Exact marginals by node, used when BP did not converge and the graph is small.
     exact_fallback: Option<Vec<Vec<f64>>>,
 }
@@ -152,7 +154,21 @@ impl ConceptualMap {
             node_of: HashMap::new(),
             stats: InferenceStats::default(),
             exact_fallback: None,
+            unfound_landmarks: false,
         }
+    }
+
+    /// Count the landmarks not found yet in a room's rate of an object (and in the rooms
+    /// behind placeholders, [`Model::unseen_room_rates`]): §III-A's whole hierarchy. Off by
+    /// default: a room's rate is its own plus its known landmarks' (see the crate docs,
+    /// *P(ObjectAt L)*, for what each gives and why the default is off for now).
+    pub fn set_unfound_landmarks(&mut self, on: bool) {
+        self.unfound_landmarks = on;
+    }
+
+    /// Whether a room's rate counts the landmarks not found yet.
+    pub fn unfound_landmarks(&self) -> bool {
+        self.unfound_landmarks
     }
 
     /// The dense knowledge model.
@@ -751,21 +767,40 @@ impl ConceptualMap {
         match location {
             Location::Room(r) => {
                 let st = self.room(r)?;
-                // Instances not found yet: thinned by failed searches and by the looks that
-                // counted the class (what they counted is known; what is left, each of them
-                // missed).
-                let looks: f64 = st
-                    .places
-                    .values()
-                    .flat_map(|o| &o.counts)
-                    .filter(|o| o.class == c)
-                    .map(|o| 1.0 - o.coverage * m.count_detection)
-                    .product();
-                let t = st.searched.get(&c).copied().unwrap_or(1.0) * looks;
+                // Instances of a class not found yet: thinned by failed searches and by the
+                // looks that counted the class (what they counted is known; what is left, each
+                // of them missed).
+                let unfound = |class: usize| -> f64 {
+                    let looks: f64 = st
+                        .places
+                        .values()
+                        .flat_map(|o| &o.counts)
+                        .filter(|o| o.class == class)
+                        .map(|o| 1.0 - o.coverage * m.count_detection)
+                        .product();
+                    st.searched.get(&class).copied().unwrap_or(1.0) * looks
+                };
+                let t = unfound(c);
                 let mut out: Vec<f64> = m.room_rates[c].iter().map(|x| t * x).collect();
                 for l in &st.landmarks {
                     let add = lm_rates(l, &[Relation::In, Relation::On])?;
                     out.iter_mut().zip(add).for_each(|(o, x)| *o += x);
+                }
+                // With `unfound_landmarks`: landmarks not found yet are subordinate locations
+                // too (§III-A): each
+                // landmark class's unfound instances (its room rate thinned as above) hold the
+                // object with 1 − e^{−ν} each (compound Poisson, as in
+                // `Model::unseen_room_rates`), and a failed search for the object in the room
+                // thins them as it thins the room's own rate.
+                let unfound_lms = m.landmark_rates.iter().filter(|_| self.unfound_landmarks);
+                for ((o, _, lm), nu) in unfound_lms {
+                    if *o != c {
+                        continue;
+                    }
+                    let tl = unfound(*lm) * st.searched.get(&c).copied().unwrap_or(1.0);
+                    for ((x, mu), n) in out.iter_mut().zip(&m.room_rates[*lm]).zip(nu) {
+                        *x += tl * mu * (1.0 - (-n).exp());
+                    }
                 }
                 Ok(out)
             }
@@ -849,7 +884,9 @@ impl ConceptualMap {
         Ok(self.placeholder_hypotheses(id)?.p_category[k])
     }
 
-    /// P(at least one `class` object in the new rooms behind the placeholder).
+    /// P(at least one `class` object in the new rooms behind the placeholder): in their open
+    /// space, and with [`Self::set_unfound_landmarks`] also on and in the landmarks they are
+    /// expected to hold ([`Model::unseen_room_rates`]).
     pub fn p_object_behind_placeholder(
         &self,
         id: PlaceholderId,
@@ -858,6 +895,10 @@ impl ConceptualMap {
         let c = self.model.class(class)?;
         Ok(self
             .placeholder_hypotheses(id)?
-            .p_object(&self.model.room_rates[c]))
+            .p_object(&if self.unfound_landmarks {
+                self.model.unseen_room_rates(c)
+            } else {
+                self.model.room_rates[c].clone()
+            }))
     }
 }

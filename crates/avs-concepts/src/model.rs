@@ -158,6 +158,40 @@ impl Model {
             .cloned()
             .unwrap_or_else(|| vec![0.0; self.num_categories()])
     }
+
+    /// The rate of `object`, per category, in a room none of whose landmarks is known yet (a
+    /// room behind a placeholder): its own rate plus those of all its subordinate locations,
+    /// as §III-A of `002` has it ("the λ values for a location and all its subordinate
+    /// locations can simply be added together"), returned as the effective λ_k with
+    /// P(at least one) = 1 − e^{−λ_k} (eq. 2).
+    ///
+    /// The landmarks of an unseen room are themselves unknown: a room of category k holds a
+    /// Poisson(μ_k) number of landmarks of a class (μ = that class's `room_rates`), each with a
+    /// Poisson(ν_k) number of the object on or in it (ν = the `landmark_rates` entry). The
+    /// object's count over them is compound Poisson with P(none) = exp(−μ_k (1 − e^{−ν_k}))
+    /// (the probability generating function of the landmark count at e^{−ν_k}), so each
+    /// (relation, landmark class) adds μ_k (1 − e^{−ν_k}) to the room's own λ. For small ν
+    /// this is the paper's plain sum μ_k ν_k; for ν near 1 or above it does not count one
+    /// landmark's many objects as many landmarks' worth of chances.
+    pub fn unseen_room_rates(&self, object: usize) -> Vec<f64> {
+        let mut out = self
+            .room_rates
+            .get(object)
+            .cloned()
+            .unwrap_or_else(|| vec![0.0; self.num_categories()]);
+        for ((o, _, lm), nu) in &self.landmark_rates {
+            if *o != object {
+                continue;
+            }
+            let Some(mu) = self.room_rates.get(*lm) else {
+                continue;
+            };
+            for ((r, m), n) in out.iter_mut().zip(mu).zip(nu) {
+                *r += m * (1.0 - (-n).exp());
+            }
+        }
+        out
+    }
 }
 
 #[cfg(test)]
@@ -177,5 +211,57 @@ mod tests {
             let m = Model::from_knowledge(f, &k).unwrap();
             assert_eq!(m.prior.len(), m.categories.len());
         }
+    }
+
+    #[test]
+    fn an_unseen_room_holds_the_object_also_on_and_in_the_landmarks_it_is_expected_to_have() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../knowledge/office.yaml");
+        let k: Knowledge = avs_format::load_yaml(&path).unwrap();
+        let m = Model::from_knowledge("office.yaml", &k).unwrap();
+        let cereal = m.class("cerealbox").unwrap();
+        let kitchen = m.category("kitchen").unwrap();
+        let got = m.unseen_room_rates(cereal)[kitchen];
+        // Independently, from the knowledge file's numbers: loose 0.10; tables 1.0 per
+        // kitchen with 0.40 each on top; counters 1.5 with 0.30; shelves 0.3 with 0.20 inside.
+        let want = 0.10
+            + 1.0 * (1.0 - (-0.40f64).exp())
+            + 1.5 * (1.0 - (-0.30f64).exp())
+            + 0.3 * (1.0 - (-0.20f64).exp());
+        assert!((got - want).abs() < 1e-12, "{got} vs {want}");
+        // Monte Carlo of the generative model: P(no cerealbox anywhere in a kitchen).
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let poisson = |rng: &mut rand_chacha::ChaCha8Rng, l: f64| {
+            // Knuth's method (small λ).
+            let (lim, mut p, mut k) = ((-l).exp(), 1.0, 0u32);
+            loop {
+                p *= rng.gen::<f64>();
+                if p <= lim {
+                    return k;
+                }
+                k += 1;
+            }
+        };
+        let n = 200_000;
+        let mut none = 0;
+        for _ in 0..n {
+            let mut count = poisson(&mut rng, 0.10);
+            for (mu, nu) in [(1.0, 0.40), (1.5, 0.30), (0.3, 0.20)] {
+                for _ in 0..poisson(&mut rng, mu) {
+                    count += poisson(&mut rng, nu);
+                }
+            }
+            none += u32::from(count == 0);
+        }
+        let p_none = f64::from(none) / f64::from(n);
+        assert!(
+            (p_none - (-got).exp()).abs() < 0.005,
+            "{p_none} vs {}",
+            (-got).exp()
+        );
+        // A landmark class has no subordinate locations: its own rate.
+        let table = m.class("table").unwrap();
+        assert_eq!(m.unseen_room_rates(table), m.room_rates[table]);
     }
 }

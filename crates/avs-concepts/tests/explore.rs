@@ -445,3 +445,47 @@ fn a_second_look_counts_only_what_the_first_missed() {
         "{after_second:?} vs {fresh:?}"
     );
 }
+
+#[test]
+fn a_rooms_rate_counts_the_landmarks_not_found_yet() {
+    // Tables are a Poisson population too (μ = 2 per kitchen), each holding Poisson(0.5) cups:
+    // the cups on tables nobody has seen add μ (1 − e^{−0.5}) (compound Poisson).
+    let mut k = one_category();
+    k.object_rates.insert("table".into(), vec![2.0]);
+    let mut map = ConceptualMap::new("one.yaml", &k).unwrap();
+    let room = Location::Room(RoomId(0));
+    map.add_room(RoomId(0)).unwrap();
+    let rate = |map: &ConceptualMap| map.rates(room, "cup").unwrap()[0];
+    // Off by default: the room's own rate only.
+    assert!(!map.unfound_landmarks());
+    assert!((rate(&map) - 0.7).abs() < 1e-12, "{}", rate(&map));
+    map.set_unfound_landmarks(true);
+    let unseen = 2.0 * (1.0 - (-0.5f64).exp());
+    assert!(
+        (rate(&map) - (0.7 + unseen)).abs() < 1e-12,
+        "{}",
+        rate(&map)
+    );
+    let cup = map.model().class("cup").unwrap();
+    assert!((map.model().unseen_room_rates(cup)[0] - rate(&map)).abs() < 1e-12);
+    // A look over the whole room counts one table: the tables it missed are a share
+    // (1 − p_d) of the population; the one it saw is a landmark location of its own.
+    let p_d = map.model().count_detection;
+    map.observe_objects(RoomId(0), PlaceId(1), "table", 1, 1.0)
+        .unwrap();
+    map.add_landmark(RoomId(0), "table").unwrap();
+    let want = 0.7 + 0.5 + (1.0 - p_d) * unseen;
+    assert!(
+        (rate(&map) - want).abs() < 1e-12,
+        "{} vs {want}",
+        rate(&map)
+    );
+    // A failed search of the room thins every part alike.
+    map.mark_searched(room, "cup", 0.6).unwrap();
+    assert!(
+        (rate(&map) - 0.4 * want).abs() < 1e-12,
+        "{} vs {}",
+        rate(&map),
+        0.4 * want
+    );
+}

@@ -5,11 +5,12 @@ use crate::domain::Domain;
 use crate::ground::ground;
 use crate::lifted::{step_value, LiftedState};
 use crate::problem::{Functions, Instance, Problem};
-use crate::search::{search, SearchOptions};
+use crate::search::{search, search_best_ratio, SearchOptions};
 use crate::task::{validate_sas, SearchStats, Task};
 use crate::PlanError;
 use std::collections::HashMap;
 use std::fmt;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Settings of the continual planner.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -20,6 +21,39 @@ pub struct ContinualOptions {
     pub min_success: f64,
     /// Replan when an assumption the plan relies on becomes less likely than this.
     pub min_assumption: f64,
+    /// Which plan to start: the one best for the fixed reward R of `search` (the paper's
+    /// objective as written), or the one with the most success probability per unit of cost.
+    pub objective: Objective,
+}
+
+/// The plan the continual planner hands out.
+///
+/// The paper (`002` §II-A.1) picks π* = argmin cost(π) + R·(1 − p(π)) for a constant R and
+/// says only that a larger R makes more expensive plans worth it. A continual planner runs
+/// only the first plan until something changes, then plans again from where it stands; its
+/// searches follow one another until the object is found. For independent searches done one
+/// after another until one succeeds, the order that minimises the expected total cost takes
+/// them by decreasing p/cost (the index rule of optimal search: Blackwell; Kadane & Simon
+/// 1977). So the plan to start with is the one with the largest p(π)/cost(π).
+/// [`Objective::Ratio`] finds it with the paper's own objective, by Dinkelbach's iteration
+/// for fractional programs (Dinkelbach 1967, [`search_best_ratio`]): plan with R, set
+/// R ← cost(π)/p(π) of the plan found, plan again; p/cost never decreases from one round to
+/// the next, and the plan that is optimal for R = its own cost/p maximises p/cost over all
+/// plans. Each plan's iteration starts from the R the planner's previous plan was optimal
+/// for ([`ContinualPlanner::reset_objective`] forgets it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Objective {
+    /// cost(π) + R·(1 − p(π)) with the configured R (the default).
+    #[default]
+    Fixed,
+    /// max p(π)/cost(π), by Dinkelbach's iteration from the configured R (at most
+    /// [`Objective::MAX_ROUNDS`] further searches).
+    Ratio,
+}
+
+impl Objective {
+    /// Further searches [`Objective::Ratio`] makes at most after the first.
+    pub const MAX_ROUNDS: usize = 4;
 }
 
 impl Default for ContinualOptions {
@@ -33,6 +67,7 @@ impl Default for ContinualOptions {
             },
             min_success: 0.01,
             min_assumption: 0.05,
+            objective: Objective::default(),
         }
     }
 }
@@ -208,18 +243,43 @@ pub enum Verdict {
 }
 
 /// The assumptive continual planner over one domain.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct ContinualPlanner {
     /// The domain.
     pub domain: Domain,
     /// Settings.
     pub options: ContinualOptions,
+    /// [`Objective::Ratio`]: the R its last plan was optimal for (the bits of an `f64`; 0 for
+    /// none yet). The next plan's iteration starts there: consecutive plans of one search
+    /// have similar costs per probability, so it ends in one or two rounds instead of
+    /// starting again from the configured R.
+    last_ratio_reward: AtomicU64,
+}
+
+impl Clone for ContinualPlanner {
+    fn clone(&self) -> Self {
+        ContinualPlanner {
+            domain: self.domain.clone(),
+            options: self.options,
+            last_ratio_reward: AtomicU64::new(self.last_ratio_reward.load(Ordering::Relaxed)),
+        }
+    }
 }
 
 impl ContinualPlanner {
     /// A planner for `domain`.
     pub fn new(domain: Domain, options: ContinualOptions) -> Self {
-        ContinualPlanner { domain, options }
+        ContinualPlanner {
+            domain,
+            options,
+            last_ratio_reward: AtomicU64::new(0),
+        }
+    }
+
+    /// Forget the R the ratio objective's last plan was optimal for (a new goal starts from the
+    /// configured R again).
+    pub fn reset_objective(&self) {
+        self.last_ratio_reward.store(0, Ordering::Relaxed);
     }
 
     /// Ground `problem` into a SAS+ task (exposed for benchmarks and tools).
@@ -241,7 +301,14 @@ impl ContinualPlanner {
         let task = &g.task;
         let mut opts = self.options.search;
         opts.min_probability = self.options.min_success;
-        let result = search(task, &opts);
+        let warm = f64::from_bits(self.last_ratio_reward.load(Ordering::Relaxed));
+        if self.options.objective == Objective::Ratio && warm.is_finite() && warm > 0.0 {
+            opts.reward = warm;
+        }
+        let result = match self.options.objective {
+            Objective::Fixed => search(task, &opts),
+            Objective::Ratio => search_best_ratio(task, &opts, Objective::MAX_ROUNDS),
+        };
         tracing::debug!(
             variables = task.variables.len(),
             operators = task.operators.len(),
@@ -250,6 +317,15 @@ impl ContinualPlanner {
             "searched"
         );
         let (plan, stats) = result?;
+        if let Some(p) = plan
+            .as_ref()
+            .filter(|_| self.options.objective == Objective::Ratio)
+        {
+            let r = p.cost / p.probability;
+            if r.is_finite() && r > 0.0 {
+                self.last_ratio_reward.store(r.to_bits(), Ordering::Relaxed);
+            }
+        }
         let Some(plan) = plan else {
             // Is there any plan at all, and how likely is the best one?
             let mut any = self.options.search;

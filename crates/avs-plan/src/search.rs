@@ -218,6 +218,62 @@ fn make_plan(task: &Task, steps: Vec<usize>, reward: f64) -> Plan {
 
 /// Search `task` for a plan; `Ok(None)` when no plan (with p ≥ `min_probability`) exists.
 pub fn search(task: &Task, opts: &SearchOptions) -> Result<(Option<Plan>, SearchStats), PlanError> {
+    with_relevant(task, opts, |t| match opts.mode {
+        Mode::Fast => gbfs(t, opts),
+        _ => astar(t, opts),
+    })
+}
+
+/// The plan with the largest p(π)/cost(π) (among plans with p ≥ `opts.min_probability`), by
+/// Dinkelbach's iteration for fractional programs: search with `opts.reward`, then with
+/// R = cost/p of the plan found, while that raises p/cost, at most `rounds` times more. The
+/// plan optimal for R = its own cost/p maximises p/cost over all plans, and p/cost never
+/// decreases from one round to the next. In [`Mode::Optimal`] the rounds share the interned
+/// states and their heuristic values (neither depends on R), so a round after the first
+/// evaluates only states the earlier ones did not reach.
+pub fn search_best_ratio(
+    task: &Task,
+    opts: &SearchOptions,
+    rounds: usize,
+) -> Result<(Option<Plan>, SearchStats), PlanError> {
+    with_relevant(task, opts, |t| {
+        let mut astar_state = (opts.mode == Mode::Optimal).then(|| AStar::new(t));
+        let mut run = |o: &SearchOptions| match astar_state.as_mut() {
+            Some(a) => a.run(o),
+            None => gbfs(t, o),
+        };
+        let (first, mut stats) = run(opts)?;
+        let Some(mut best) = first else {
+            return Ok((None, stats));
+        };
+        let ratio = |p: &Plan| p.probability / p.cost;
+        for _ in 0..rounds {
+            let r = best.cost / best.probability;
+            if !(r.is_finite() && r > 0.0) || best.cost <= 0.0 {
+                break; // a free or certain plan: nothing beats it per unit of cost
+            }
+            let o = SearchOptions { reward: r, ..*opts };
+            let (next, st) = run(&o)?;
+            tracing::trace!(reward = r, expanded = st.expanded, "ratio round");
+            stats.expanded += st.expanded;
+            stats.generated += st.generated;
+            stats.evaluated += st.evaluated;
+            match next {
+                Some(n) if n.cost > 0.0 && ratio(&n) > ratio(&best) * (1.0 + 1e-9) => best = n,
+                _ => break,
+            }
+        }
+        Ok((Some(best), stats))
+    })
+}
+
+/// Check `opts`, search (`run`) the operators that can contribute to a plan likely enough
+/// (exact: see `Task::relevant_operators`) and map the plan back to `task`'s indices.
+fn with_relevant(
+    task: &Task,
+    opts: &SearchOptions,
+    run: impl FnOnce(&Task) -> Result<(Option<Plan>, SearchStats), PlanError>,
+) -> Result<(Option<Plan>, SearchStats), PlanError> {
     task.check()?;
     if !(opts.reward.is_finite() && opts.reward >= 0.0) {
         return Err(PlanError::InvalidOption(format!(
@@ -231,8 +287,6 @@ pub fn search(task: &Task, opts: &SearchOptions) -> Result<(Option<Plan>, Search
             opts.min_probability
         )));
     }
-    // Search the operators that can contribute to a plan likely enough (exact: see
-    // `Task::relevant_operators`) and map the plan back to `task`'s indices.
     let keep = task.relevant_operators(opts.min_probability);
     let pruned;
     let t = if keep.len() < task.operators.len() {
@@ -246,10 +300,7 @@ pub fn search(task: &Task, opts: &SearchOptions) -> Result<(Option<Plan>, Search
     } else {
         task
     };
-    let (plan, stats) = match opts.mode {
-        Mode::Fast => gbfs(t, opts)?,
-        _ => astar(t, opts)?,
-    };
+    let (plan, stats) = run(t)?;
     let plan = plan.map(|mut p| {
         for s in &mut p.steps {
             *s = keep[*s];
@@ -260,164 +311,211 @@ pub fn search(task: &Task, opts: &SearchOptions) -> Result<(Option<Plan>, Search
 }
 
 fn astar(task: &Task, opts: &SearchOptions) -> Result<(Option<Plan>, SearchStats), PlanError> {
-    let relaxed = Relaxed::new(task);
-    let use_h = opts.mode == Mode::Optimal;
-    let c_cost = relaxed.costs_of(task, |o| o.cost);
-    let probabilistic = !task.is_deterministic() && opts.reward > 0.0;
-    let c_lp = relaxed.costs_of(task, |o| -o.prob.ln());
-    let mut ws = Workspace::default();
-    let mut reg = Registry::new(task);
-    // Per state: (h_cost, h_lp) or None when not evaluated; labels.
-    let mut heur: Vec<Option<(f64, f64)>> = Vec::new();
-    let mut labels: Vec<Vec<u32>> = Vec::new();
-    let mut nodes: Vec<Node> = Vec::new();
-    let mut open = BinaryHeap::new();
-    let mut stats = SearchStats::default();
-    let mut seq: u64 = 0;
-    let log_min = if opts.min_probability > 0.0 {
-        opts.min_probability.ln() - 1e-12
-    } else {
-        f64::NEG_INFINITY
-    };
-    let mut eval = |s: &[Val], stats: &mut SearchStats| -> Option<(f64, f64)> {
-        if !use_h {
-            return Some((0.0, 0.0));
+    AStar::new(task).run(opts)
+}
+
+/// A* over one task, keeping between runs what does not depend on the reward R: the relaxed
+/// task, the interned states and each state's heuristic values (h_cost, h_lp).
+struct AStar<'t> {
+    task: &'t Task,
+    relaxed: Relaxed,
+    c_cost: Vec<f64>,
+    c_lp: Vec<f64>,
+    ws: Workspace,
+    reg: Registry,
+    /// Per state: (h_cost, h_lp) or None when not evaluated.
+    heur: Vec<Option<(f64, f64)>>,
+}
+
+impl<'t> AStar<'t> {
+    fn new(task: &'t Task) -> Self {
+        let relaxed = Relaxed::new(task);
+        let c_cost = relaxed.costs_of(task, |o| o.cost);
+        let c_lp = relaxed.costs_of(task, |o| -o.prob.ln());
+        AStar {
+            task,
+            relaxed,
+            c_cost,
+            c_lp,
+            ws: Workspace::default(),
+            reg: Registry::new(task),
+            heur: Vec::new(),
         }
-        stats.evaluated += 1;
-        let hc = match opts.heuristic {
-            Heuristic::HMax => relaxed.hmax(s, &c_cost, &mut ws)?,
-            Heuristic::LmCut => relaxed.lmcut(s, &c_cost, &mut ws)?,
-        };
-        let hl = if probabilistic {
-            match opts.heuristic {
-                Heuristic::HMax => relaxed.hmax(s, &c_lp, &mut ws)?,
-                Heuristic::LmCut => relaxed.lmcut(s, &c_lp, &mut ws)?,
-            }
+    }
+
+    fn run(&mut self, opts: &SearchOptions) -> Result<(Option<Plan>, SearchStats), PlanError> {
+        let task = self.task;
+        let use_h = opts.mode == Mode::Optimal;
+        // (A state evaluated in a run with R = 0 keeps h_lp = 0 for later runs: still a lower bound.)
+        let probabilistic = !task.is_deterministic() && opts.reward > 0.0;
+        let (relaxed, c_cost, c_lp) = (&self.relaxed, &self.c_cost, &self.c_lp);
+        let ws = &mut self.ws;
+        let reg = &mut self.reg;
+        let heur = &mut self.heur;
+        // Labels of this run, per state.
+        let mut labels: Vec<Vec<u32>> = vec![Vec::new(); heur.len()];
+        let mut nodes: Vec<Node> = Vec::new();
+        let mut open = BinaryHeap::new();
+        let mut stats = SearchStats::default();
+        let mut seq: u64 = 0;
+        let log_min = if opts.min_probability > 0.0 {
+            opts.min_probability.ln() - 1e-12
         } else {
-            0.0
+            f64::NEG_INFINITY
         };
-        Some((hc, hl))
-    };
-    let f_of = |g: f64, lp: f64, h: (f64, f64)| -> f64 {
-        g + h.0 + opts.reward * (1.0 - (lp - h.1).exp())
-    };
-    let (sid, _) = reg.insert(&task.init);
-    let Some(h0) = eval(&task.init, &mut stats) else {
-        return Ok((None, stats));
-    };
-    heur.push(Some(h0));
-    labels.push(vec![0]);
-    nodes.push(Node {
-        state: sid,
-        parent: NONE,
-        op: NONE,
-        g: 0.0,
-        lp: 0.0,
-        stale: false,
-    });
-    open.push(Reverse((Prio(f_of(0.0, 0.0, h0)), Prio(h0.0), seq, 0u32)));
-    let mut s = Vec::new();
-    let mut t = Vec::new();
-    while let Some(Reverse((Prio(key_f), _, _, n))) = open.pop() {
-        let node = &nodes[n as usize];
-        if node.stale {
-            continue;
+        let mut eval = |s: &[Val], stats: &mut SearchStats| -> Option<(f64, f64)> {
+            if !use_h {
+                return Some((0.0, 0.0));
+            }
+            stats.evaluated += 1;
+            let hc = match opts.heuristic {
+                Heuristic::HMax => relaxed.hmax(s, c_cost, ws)?,
+                Heuristic::LmCut => relaxed.lmcut(s, c_cost, ws)?,
+            };
+            let hl = if probabilistic {
+                match opts.heuristic {
+                    Heuristic::HMax => relaxed.hmax(s, c_lp, ws)?,
+                    Heuristic::LmCut => relaxed.lmcut(s, c_lp, ws)?,
+                }
+            } else {
+                0.0
+            };
+            Some((hc, hl))
+        };
+        let f_of = |g: f64, lp: f64, h: (f64, f64)| -> f64 {
+            g + h.0 + opts.reward * (1.0 - (lp - h.1).exp())
+        };
+        let (sid, new) = reg.insert(&task.init);
+        if new {
+            heur.push(None);
+            labels.push(Vec::new());
         }
-        let (g, lp, st) = (node.g, node.lp, node.state);
-        reg.get(st, &mut s);
-        if heur[st as usize].is_none() {
-            match eval(&s, &mut stats) {
-                Some(h) => {
-                    heur[st as usize] = Some(h);
-                    let f = f_of(g, lp, h);
-                    if f > key_f + 1e-9 {
-                        seq += 1;
-                        open.push(Reverse((Prio(f), Prio(h.0), seq, n)));
+        let h0 = match heur[sid as usize] {
+            Some(h) => h,
+            None => {
+                let Some(h) = eval(&task.init, &mut stats) else {
+                    return Ok((None, stats));
+                };
+                heur[sid as usize] = Some(h);
+                h
+            }
+        };
+        if h0.0.is_infinite() {
+            return Ok((None, stats));
+        }
+        labels[sid as usize].push(0);
+        nodes.push(Node {
+            state: sid,
+            parent: NONE,
+            op: NONE,
+            g: 0.0,
+            lp: 0.0,
+            stale: false,
+        });
+        open.push(Reverse((Prio(f_of(0.0, 0.0, h0)), Prio(h0.0), seq, 0u32)));
+        let mut s = Vec::new();
+        let mut t = Vec::new();
+        while let Some(Reverse((Prio(key_f), _, _, n))) = open.pop() {
+            let node = &nodes[n as usize];
+            if node.stale {
+                continue;
+            }
+            let (g, lp, st) = (node.g, node.lp, node.state);
+            reg.get(st, &mut s);
+            if heur[st as usize].is_none() {
+                match eval(&s, &mut stats) {
+                    Some(h) => {
+                        heur[st as usize] = Some(h);
+                        let f = f_of(g, lp, h);
+                        if f > key_f + 1e-9 {
+                            seq += 1;
+                            open.push(Reverse((Prio(f), Prio(h.0), seq, n)));
+                            continue;
+                        }
+                    }
+                    None => {
+                        heur[st as usize] = Some((f64::INFINITY, f64::INFINITY));
                         continue;
                     }
                 }
-                None => {
-                    heur[st as usize] = Some((f64::INFINITY, f64::INFINITY));
+            }
+            if heur[st as usize].is_some_and(|h| h.0.is_infinite()) {
+                continue;
+            }
+            if task.is_goal(&s) {
+                let steps = extract(&nodes, n);
+                return Ok((Some(make_plan(task, steps, opts.reward)), stats));
+            }
+            stats.expanded += 1;
+            if stats.expanded > opts.max_expansions {
+                return Err(PlanError::SearchLimit(opts.max_expansions));
+            }
+            let ops: Vec<usize> = applicable(task, &s).collect();
+            for op in ops {
+                let o = &task.operators[op];
+                let g2 = g + o.cost;
+                let lp2 = lp + o.prob.ln();
+                if lp2 < log_min {
                     continue;
                 }
-            }
-        }
-        if heur[st as usize].is_some_and(|h| h.0.is_infinite()) {
-            continue;
-        }
-        if task.is_goal(&s) {
-            let steps = extract(&nodes, n);
-            return Ok((Some(make_plan(task, steps, opts.reward)), stats));
-        }
-        stats.expanded += 1;
-        if stats.expanded > opts.max_expansions {
-            return Err(PlanError::SearchLimit(opts.max_expansions));
-        }
-        let ops: Vec<usize> = applicable(task, &s).collect();
-        for op in ops {
-            let o = &task.operators[op];
-            let g2 = g + o.cost;
-            let lp2 = lp + o.prob.ln();
-            if lp2 < log_min {
-                continue;
-            }
-            apply(task, op, &s, &mut t);
-            stats.generated += 1;
-            let (sid2, new) = reg.insert(&t);
-            if new {
-                heur.push(None);
-                labels.push(Vec::new());
-            }
-            let si = sid2 as usize;
-            // Pareto dominance among the labels of this state.
-            let mut dominated = false;
-            for &l in &labels[si] {
-                let ln = &nodes[l as usize];
-                if ln.g <= g2 + 1e-9 && ln.lp >= lp2 - 1e-12 {
-                    dominated = true;
-                    break;
+                apply(task, op, &s, &mut t);
+                stats.generated += 1;
+                let (sid2, new) = reg.insert(&t);
+                if new {
+                    heur.push(None);
+                    labels.push(Vec::new());
                 }
-            }
-            if dominated {
-                continue;
-            }
-            // Deferred evaluation: a child is queued with the admissible estimate
-            // max(0, h(parent) − cost) (h(parent) ≤ cost + h*(child)) and evaluated when popped.
-            let h = match heur[si] {
-                Some(h) => h,
-                None => {
-                    let ph = heur[st as usize].unwrap_or((0.0, 0.0));
-                    ((ph.0 - o.cost).max(0.0), (ph.1 + o.prob.ln()).max(0.0))
+                let si = sid2 as usize;
+                // Pareto dominance among the labels of this state.
+                let mut dominated = false;
+                for &l in &labels[si] {
+                    let ln = &nodes[l as usize];
+                    if ln.g <= g2 + 1e-9 && ln.lp >= lp2 - 1e-12 {
+                        dominated = true;
+                        break;
+                    }
                 }
-            };
-            if h.0.is_infinite() {
-                continue;
-            }
-            let mut keep = Vec::with_capacity(labels[si].len() + 1);
-            for &l in &labels[si] {
-                let ln = &mut nodes[l as usize];
-                if g2 <= ln.g && lp2 >= ln.lp {
-                    ln.stale = true;
-                } else {
-                    keep.push(l);
+                if dominated {
+                    continue;
                 }
+                // Deferred evaluation: a child is queued with the admissible estimate
+                // max(0, h(parent) − cost) (h(parent) ≤ cost + h*(child)) and evaluated when popped.
+                let h = match heur[si] {
+                    Some(h) => h,
+                    None => {
+                        let ph = heur[st as usize].unwrap_or((0.0, 0.0));
+                        ((ph.0 - o.cost).max(0.0), (ph.1 + o.prob.ln()).max(0.0))
+                    }
+                };
+                if h.0.is_infinite() {
+                    continue;
+                }
+                let mut keep = Vec::with_capacity(labels[si].len() + 1);
+                for &l in &labels[si] {
+                    let ln = &mut nodes[l as usize];
+                    if g2 <= ln.g && lp2 >= ln.lp {
+                        ln.stale = true;
+                    } else {
+                        keep.push(l);
+                    }
+                }
+                let id = nodes.len() as u32;
+                nodes.push(Node {
+                    state: sid2,
+                    parent: n,
+                    op: op as u32,
+                    g: g2,
+                    lp: lp2,
+                    stale: false,
+                });
+                keep.push(id);
+                labels[si] = keep;
+                seq += 1;
+                open.push(Reverse((Prio(f_of(g2, lp2, h)), Prio(h.0), seq, id)));
             }
-            let id = nodes.len() as u32;
-            nodes.push(Node {
-                state: sid2,
-                parent: n,
-                op: op as u32,
-                g: g2,
-                lp: lp2,
-                stale: false,
-            });
-            keep.push(id);
-            labels[si] = keep;
-            seq += 1;
-            open.push(Reverse((Prio(f_of(g2, lp2, h)), Prio(h.0), seq, id)));
         }
+        Ok((None, stats))
     }
-    Ok((None, stats))
 }
 
 fn gbfs(task: &Task, opts: &SearchOptions) -> Result<(Option<Plan>, SearchStats), PlanError> {

@@ -380,3 +380,90 @@ fn assumption_chains_without_assumptions_first_is_rejected_naming_the_field() {
     assert!(text.contains("assumption_chains"), "{text}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn the_ratio_objective_starts_the_plan_with_the_most_success_per_unit_of_cost() {
+    // Oracle: the paper's fixed-R objective swept over R from 1 to 10⁵ (every plan it returns
+    // is a feasible plan; a plan with the best p/cost is optimal for R = its own cost/p, so a
+    // fine sweep meets it). The ratio objective must find a plan at least as good per unit
+    // of cost as every swept plan, and as good as the best of them.
+    use avs_plan::continual::Objective;
+    let domain = object_search_domain();
+    let fixed = |r: f64| {
+        let mut o = ContinualOptions {
+            objective: Objective::Fixed,
+            ..ContinualOptions::default()
+        };
+        o.search.reward = r;
+        ContinualPlanner::new(domain.clone(), o)
+    };
+    let ratio = ContinualPlanner::new(
+        domain.clone(),
+        ContinualOptions {
+            objective: Objective::Ratio,
+            ..ContinualOptions::default()
+        },
+    );
+    let mut differs = 0;
+    let mut cases = Vec::new();
+    for target in ["cerealbox", "table", "desk", "shelf"] {
+        for rooms in [0usize, 2, 4] {
+            let (p, xy) = office_with_rooms(rooms, target);
+            cases.push((format!("{target}, {rooms} rooms"), p, xy, false));
+        }
+    }
+    // A trade-off: room1 near and probably not an office, room2 far (20 m) and surely one.
+    let (p, mut xy) = office_with_rooms(2, "desk");
+    xy.insert("place102".into(), (20.0, 20.0));
+    cases.push((
+        "desk, near doubtful room and far office".into(),
+        p,
+        xy,
+        true,
+    ));
+    for (name, p, xy, tradeoff) in &cases {
+        let f = |n: &str, a: &[&str]| match (n, a) {
+            ("p-category", [r, c]) if *tradeoff && (*r == "room1" || *r == "room2") => {
+                let office = if *r == "room1" { 0.2 } else { 0.95 };
+                Some(if *c == "office" {
+                    office
+                } else {
+                    (1.0 - office) / 2.0
+                })
+            }
+            _ => stand_in(n, a, xy),
+        };
+        let got = plan_of(ratio.plan(p, &f).unwrap());
+        let got_ratio = got.probability / got.cost;
+        let mut best_swept = 0.0f64;
+        for i in 0..=50 {
+            let r = 10f64.powf(5.0 * f64::from(i) / 50.0);
+            if let Decision::Plan(q) = fixed(r).plan(p, &f).unwrap() {
+                let qr = q.probability / q.cost;
+                assert!(
+                    got_ratio >= qr * (1.0 - 1e-9),
+                    "{name}, R = {r}: swept plan p/cost {qr} beats {got_ratio}\n{:#?}\n{:#?}",
+                    lines(&q),
+                    lines(&got)
+                );
+                best_swept = best_swept.max(qr);
+            }
+        }
+        assert!(
+            (got_ratio - best_swept).abs() <= 1e-9 * best_swept,
+            "{name}: {got_ratio} against the sweep's best {best_swept}"
+        );
+        // The paper's R = 1000 plan is at least as likely, never better per unit of cost.
+        let paper = plan_of(fixed(1000.0).plan(p, &f).unwrap());
+        assert!(paper.probability >= got.probability - 1e-12, "{name}");
+        if lines(&paper) != lines(&got) {
+            differs += 1;
+            assert!(got.cost < paper.cost, "{name}");
+        }
+    }
+    // The trade-off case must tell the two objectives apart, else this test tests nothing.
+    assert!(
+        differs > 0,
+        "the ratio objective chose the R = 1000 plan everywhere"
+    );
+}

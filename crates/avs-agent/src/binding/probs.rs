@@ -64,6 +64,11 @@ impl Functions for Probs<'_> {
                 let k = cat(c)?;
                 match s.rooms.get(*r) {
                     Some(&room) => exists(*self.cm.rates(Location::Room(room), l).ok()?.get(k)?),
+                    // A hypothesised room: its open space; with unfound landmarks counted, its
+                    // whole hierarchy (the landmarks it is expected to hold too), 002 §III-A.
+                    None if self.cm.unfound_landmarks() => {
+                        exists(*m.unseen_room_rates(m.class(l).ok()?).get(k)?)
+                    }
                     None => exists(*m.room_rates.get(m.class(l).ok()?)?.get(k)?),
                 }
             }

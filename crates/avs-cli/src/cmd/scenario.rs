@@ -1,5 +1,7 @@
-//! `avs scenario FILE... [--json]` — re-enact scenario files from any directory and judge their
-//! properties (the checks made in every scenario, then each `expect` field the file sets).
+//! `avs scenario FILE... [--seed N,...] [--json]` — re-enact scenario files from any directory
+//! and judge their properties (the checks made in every scenario, then each `expect` field the
+//! file sets). `--seed` runs every file once per given seed of the simulated robot instead of
+//! the file's own `seed` (the properties should hold whatever the seed).
 //!
 //! A scenario's `environment`, `knowledge` and `domain` paths are resolved against the
 //! scenario file's folder when they exist there, else against the repository (the current
@@ -21,7 +23,11 @@ pub struct Args {
     /// Scenario files to run.
     #[arg(required = true, value_name = "FILE")]
     pub files: Vec<PathBuf>,
-    /// Print `{"scenarios": [{"file", "properties": [{"name", "pass", "detail"}]}]}`.
+    /// Run each file with these seeds of the simulated robot (comma-separated or repeated)
+    /// instead of the file's own `seed`.
+    #[arg(long = "seed", value_name = "N", value_delimiter = ',')]
+    pub seeds: Vec<u64>,
+    /// Print `{"scenarios": [{"file", "seed", "properties": [{"name", "pass", "detail"}]}]}`.
     #[arg(long)]
     pub json: bool,
 }
@@ -30,6 +36,7 @@ pub struct Args {
 #[derive(Serialize)]
 struct FileResult {
     file: String,
+    seed: u64,
     properties: Vec<PropertyResult>,
 }
 
@@ -55,22 +62,33 @@ fn root_for(file: &Path, paths: [&str; 3]) -> PathBuf {
 /// Run the subcommand: an input that cannot be read or run exits 1, naming the file.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut results = Vec::new();
+    let seeds: Vec<Option<u64>> = if args.seeds.is_empty() {
+        vec![None]
+    } else {
+        args.seeds.iter().copied().map(Some).collect()
+    };
     for file in &args.files {
-        match judge(file) {
-            Ok(r) => results.push(r),
-            Err(e) => {
-                eprintln!("error: {e:#}");
-                return Ok(ExitCode::from(1));
+        for &seed in &seeds {
+            match judge(file, seed) {
+                Ok(r) => results.push(r),
+                Err(e) => {
+                    eprintln!("error: {e:#}");
+                    return Ok(ExitCode::from(1));
+                }
             }
         }
     }
     report(&results, args.json)
 }
 
-/// Re-enact one scenario file and judge its properties.
-fn judge(file: &Path) -> anyhow::Result<FileResult> {
+/// Re-enact one scenario file (with `seed` in place of its own when given) and judge its
+/// properties.
+fn judge(file: &Path, seed: Option<u64>) -> anyhow::Result<FileResult> {
     {
-        let sc = load_scenario(file)?;
+        let mut sc = load_scenario(file)?;
+        if let Some(seed) = seed {
+            sc.seed = seed;
+        }
         let root = root_for(
             file,
             [
@@ -82,6 +100,7 @@ fn judge(file: &Path) -> anyhow::Result<FileResult> {
         let out = run_scenario(&sc, file, &root)?;
         Ok(FileResult {
             file: file.display().to_string(),
+            seed: sc.seed,
             properties: evaluate_properties(&sc, &out),
         })
     }
@@ -101,7 +120,7 @@ fn report(results: &[FileResult], json: bool) -> anyhow::Result<ExitCode> {
         );
     } else {
         for f in results {
-            println!("{}", f.file);
+            println!("{} (seed {})", f.file, f.seed);
             for p in &f.properties {
                 let verdict = if p.pass { "PASS" } else { "FAIL" };
                 println!("  {verdict}  {}: {}", p.name, p.detail);
