@@ -45,6 +45,10 @@ pub struct BenchParams {
     pub detector: avs_sim::sim_robot::DetectorKind,
     /// Whether the agent's looks run the zoom pipeline ([`AgentConfig::zoom_pipeline`]).
     pub zoom_pipeline: bool,
+    /// Whether rooms count their landmarks not found yet ([`AgentConfig::unfound_landmarks`]).
+    pub unfound_landmarks: bool,
+    /// Which plan the planner starts (`AgentConfig::planner`'s `objective`).
+    pub objective: avs_plan::continual::Objective,
 }
 
 /// One floor's run.
@@ -156,8 +160,10 @@ pub fn bench(
     let mut config = AgentConfig {
         strategy: p.strategy,
         zoom_pipeline: p.zoom_pipeline,
+        unfound_landmarks: p.unfound_landmarks,
         ..AgentConfig::default()
     };
+    config.planner.objective = p.objective;
     if p.zoom_pipeline {
         // The pipeline's ranges and rates, measured once on the simulated camera (every
         // generated floor has the default camera).

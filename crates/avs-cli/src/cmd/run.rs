@@ -34,6 +34,8 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         seed: 1,
         strategy: Default::default(),
         zoom_pipeline: avs_agent::AgentConfig::default().zoom_pipeline,
+        unfound_landmarks: avs_agent::AgentConfig::default().unfound_landmarks,
+        objective: avs_agent::AgentConfig::default().planner.objective,
         faults: Default::default(),
         edits: Default::default(),
         before: &[],

@@ -92,6 +92,15 @@ pub struct Args {
     /// The simulated robot's object detector.
     #[arg(long, value_enum, default_value_t = DetectorArg::default())]
     pub detector: DetectorArg,
+    /// Rooms count the landmarks not found yet in their chance of holding the object, and a
+    /// room behind a placeholder all it is expected to hold (`002` §III-A's whole hierarchy;
+    /// off by default, see BENCHMARKS.md).
+    #[arg(long)]
+    pub unfound_landmarks: bool,
+    /// Which plan the planner starts: `fixed` (the paper's R, the default) or `ratio` (the
+    /// most success probability per unit of cost).
+    #[arg(long, value_enum, default_value_t = ObjectiveArg::default())]
+    pub objective: ObjectiveArg,
     /// Looks run the zoom pipeline (attention, zoom windows, three-step search, recognition)
     /// instead of the one-shot detector; the trace shows each zoomed image (`ZOOM …`).
     #[arg(long)]
@@ -114,6 +123,25 @@ impl From<DetectorArg> for avs_sim::sim_robot::DetectorKind {
         match d {
             DetectorArg::Independent => Self::Independent,
             DetectorArg::Correlated => Self::Correlated,
+        }
+    }
+}
+
+/// Which plan the planner starts (`--objective`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum ObjectiveArg {
+    /// The best for the paper's fixed reward R (the default).
+    #[default]
+    Fixed,
+    /// The one with the most success probability per unit of cost (Dinkelbach's iteration).
+    Ratio,
+}
+
+impl From<ObjectiveArg> for avs_plan::continual::Objective {
+    fn from(o: ObjectiveArg) -> Self {
+        match o {
+            ObjectiveArg::Fixed => Self::Fixed,
+            ObjectiveArg::Ratio => Self::Ratio,
         }
     }
 }
@@ -198,6 +226,10 @@ pub struct Request<'a> {
     pub strategy: Strategy,
     /// Looks run the zoom pipeline.
     pub zoom_pipeline: bool,
+    /// Rooms count their landmarks not found yet.
+    pub unfound_landmarks: bool,
+    /// Which plan the planner starts.
+    pub objective: avs_plan::continual::Objective,
     /// Fault injection.
     pub faults: Faults,
     /// World edits before the search.
@@ -297,8 +329,10 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
         strategy: r.strategy,
         cover_before_giving_up: r.cover_before_giving_up,
         zoom_pipeline: r.zoom_pipeline,
+        unfound_landmarks: r.unfound_landmarks,
         ..AgentConfig::default()
     };
+    config.planner.objective = r.objective;
     if r.zoom_pipeline {
         // The pipeline's ranges and rates, measured on this world's simulated camera.
         config.measured_sensing = avs_eval::zoom_sensing::measured_sensing(
@@ -525,6 +559,8 @@ fn search(a: Args) -> anyhow::Result<bool> {
         seed: a.seed,
         strategy: a.strategy,
         zoom_pipeline: a.zoom,
+        unfound_landmarks: a.unfound_landmarks,
+        objective: a.objective.into(),
         faults: Faults {
             detector: a.detector.into(),
             failure_rate: a.failure_rate,
