@@ -787,19 +787,17 @@ impl ConceptualMap {
                     out.iter_mut().zip(add).for_each(|(o, x)| *o += x);
                 }
                 // With `unfound_landmarks`: landmarks not found yet are subordinate locations
-                // too (§III-A): each
-                // landmark class's unfound instances (its room rate thinned as above) hold the
-                // object with 1 − e^{−ν} each (compound Poisson, as in
+                // too (§III-A). Each landmark class's unfound instances (its room rate thinned
+                // as above) hold the object with 1 − e^{−ν} each (compound Poisson, as in
                 // `Model::unseen_room_rates`), and a failed search for the object in the room
                 // thins them as it thins the room's own rate.
-                let unfound_lms = m.landmark_rates.iter().filter(|_| self.unfound_landmarks);
-                for ((o, _, lm), nu) in unfound_lms {
-                    if *o != c {
-                        continue;
-                    }
-                    let tl = unfound(*lm) * st.searched.get(&c).copied().unwrap_or(1.0);
-                    for ((x, mu), n) in out.iter_mut().zip(&m.room_rates[*lm]).zip(nu) {
-                        *x += tl * mu * (1.0 - (-n).exp());
+                if self.unfound_landmarks {
+                    let searched = st.searched.get(&c).copied().unwrap_or(1.0);
+                    for (lm, hold) in m.landmark_holds(c) {
+                        let tl = unfound(lm) * searched;
+                        for ((x, mu), h) in out.iter_mut().zip(&m.room_rates[lm]).zip(hold) {
+                            *x += tl * mu * h;
+                        }
                     }
                 }
                 Ok(out)

@@ -179,18 +179,23 @@ impl Model {
             .get(object)
             .cloned()
             .unwrap_or_else(|| vec![0.0; self.num_categories()]);
-        for ((o, _, lm), nu) in &self.landmark_rates {
-            if *o != object {
-                continue;
-            }
-            let Some(mu) = self.room_rates.get(*lm) else {
-                continue;
-            };
-            for ((r, m), n) in out.iter_mut().zip(mu).zip(nu) {
-                *r += m * (1.0 - (-n).exp());
+        for (lm, hold) in self.landmark_holds(object) {
+            for ((r, mu), h) in out.iter_mut().zip(&self.room_rates[lm]).zip(hold) {
+                *r += mu * h;
             }
         }
         out
+    }
+
+    /// For each (relation, landmark class) with a rate of `object`: the landmark class and,
+    /// per category, the chance 1 − e^{−ν_k} that one instance holds at least one `object`
+    /// (what each of a Poisson number of unseen landmarks adds to a room's rate; see
+    /// [`Model::unseen_room_rates`]).
+    pub fn landmark_holds(&self, object: usize) -> impl Iterator<Item = (usize, Vec<f64>)> + '_ {
+        self.landmark_rates
+            .iter()
+            .filter(move |((o, _, lm), _)| *o == object && *lm < self.room_rates.len())
+            .map(|((_, _, lm), nu)| (*lm, nu.iter().map(|n| 1.0 - (-n).exp()).collect()))
     }
 }
 
