@@ -894,9 +894,9 @@ impl ConceptualMap {
         Ok(self
             .placeholder_hypotheses(id)?
             .p_object(&if self.unfound_landmarks {
-                self.model.unseen_room_rates(c)
+                std::borrow::Cow::Owned(self.model.unseen_room_rates(c))
             } else {
-                self.model.room_rates[c].clone()
+                std::borrow::Cow::Borrowed(&self.model.room_rates[c][..])
             }))
     }
 }

@@ -178,6 +178,20 @@ struct Node {
 
 const NONE: u32 = u32::MAX;
 
+impl Node {
+    /// The search's root: the initial state, reached at no cost with certainty.
+    fn root(state: u32) -> Self {
+        Node {
+            state,
+            parent: NONE,
+            op: NONE,
+            g: 0.0,
+            lp: 0.0,
+            stale: false,
+        }
+    }
+}
+
 fn applicable<'a>(task: &'a Task, s: &[Val]) -> impl Iterator<Item = usize> + 'a {
     let s = s.to_vec();
     task.operators
@@ -249,17 +263,15 @@ pub fn search_best_ratio(
         let ratio = |p: &Plan| p.probability / p.cost;
         for _ in 0..rounds {
             let r = best.cost / best.probability;
-            if !(r.is_finite() && r > 0.0) || best.cost <= 0.0 {
-                break; // a free or certain plan: nothing beats it per unit of cost
+            if !(r.is_finite() && r > 0.0) {
+                break; // a free plan: nothing beats it per unit of cost
             }
             let o = SearchOptions { reward: r, ..*opts };
             let (next, st) = run(&o)?;
             tracing::trace!(reward = r, expanded = st.expanded, "ratio round");
-            stats.expanded += st.expanded;
-            stats.generated += st.generated;
-            stats.evaluated += st.evaluated;
+            stats.add(st);
             match next {
-                Some(n) if n.cost > 0.0 && ratio(&n) > ratio(&best) * (1.0 + 1e-9) => best = n,
+                Some(n) if ratio(&n) > ratio(&best) * (1.0 + 1e-9) => best = n,
                 _ => break,
             }
         }
@@ -404,14 +416,7 @@ impl<'t> AStar<'t> {
             return Ok((None, stats));
         }
         labels[sid as usize].push(0);
-        nodes.push(Node {
-            state: sid,
-            parent: NONE,
-            op: NONE,
-            g: 0.0,
-            lp: 0.0,
-            stale: false,
-        });
+        nodes.push(Node::root(sid));
         open.push(Reverse((Prio(f_of(0.0, 0.0, h0)), Prio(h0.0), seq, 0u32)));
         let mut s = Vec::new();
         let mut t = Vec::new();
@@ -543,14 +548,7 @@ fn gbfs(task: &Task, opts: &SearchOptions) -> Result<(Option<Plan>, SearchStats)
         return Ok((None, stats));
     };
     let (sid, _) = reg.insert(&task.init);
-    nodes.push(Node {
-        state: sid,
-        parent: NONE,
-        op: NONE,
-        g: 0.0,
-        lp: 0.0,
-        stale: false,
-    });
+    nodes.push(Node::root(sid));
     let mut preferred_of: Vec<Vec<usize>> = vec![pref.clone()];
     // Two queues: all successors, successors by preferred operators; the queue with the lower
     // priority counter is used next; progress boosts the preferred queue by 1000.

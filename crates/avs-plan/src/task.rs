@@ -218,6 +218,15 @@ pub struct SearchStats {
     pub evaluated: u64,
 }
 
+impl SearchStats {
+    /// Add another search's counts (searches made one after another for one answer).
+    pub fn add(&mut self, other: SearchStats) {
+        self.expanded += other.expanded;
+        self.generated += other.generated;
+        self.evaluated += other.evaluated;
+    }
+}
+
 /// A plan validated against a task by simulation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Validated {
