@@ -1,11 +1,17 @@
 //! Grounding a YAML domain and a problem into a SAS+ [`Task`] by relaxed reachability.
 //!
 //! Operators are instantiated by backtracking over their parameters; a condition is checked as
-//! soon as its parameters are bound (static relations and equalities exactly, variable
-//! conditions against the set of *reached* facts). Starting from the initial facts, the loop adds
-//! the effects of every instantiable operator until no new fact is reached (the delete
-//! relaxation's fixpoint), so operators that can never apply are never built. Variables no
-//! operator changes are then removed (their conditions are decided on the initial state).
+//! soon as its parameters are bound: static relations and equalities exactly, and so are
+//! conditions on ground variables that no effect of any operator can write (over every binding,
+//! reachable or not), since those keep their initial values; other variable conditions only
+//! need a value of the variable's domain here. Starting from the initial facts, the loop then
+//! adds the effects of every instantiated operator whose conditions are all reached, until no
+//! new fact is reached (the delete relaxation's fixpoint), so operators that can never apply
+//! are left out. An operator's cost and probability (the caller's functions) are evaluated when
+//! it is first reached, and its names built once it is kept (one 30-room object-search plan
+//! found 30 225 bindings and kept 1 321 operators before assumption-chain copies).
+//! An operator of probability 0 never applies. Variables no kept operator changes are then
+//! removed (their conditions are decided on the initial state).
 //!
 //! Virtual objects get a built-in variable `exists(v)`; an operator parameter marked `new` binds
 //! a virtual object with `exists = no` (and requires the pool's previous object to exist, so
@@ -63,6 +69,14 @@ impl Assignment {
     }
 }
 
+/// A ground operator before its cost, probability and names are known.
+struct Skeleton {
+    /// Index of its (operator schema, binding) in the grounding's list.
+    binding: u32,
+    pre: Vec<(u32, u32)>,
+    eff: Vec<(u32, u32)>,
+}
+
 struct VarTable {
     /// per schema: args → ground variable id (before pruning); looked up by slice, so a
     /// lookup needs no key of its own.
@@ -70,7 +84,7 @@ struct VarTable {
     /// virtual object → its `exists` variable id.
     exists: HashMap<usize, usize>,
     /// per ground variable: value names.
-    values: Vec<Vec<String>>,
+    values: Vec<std::rc::Rc<[String]>>,
     names: Vec<String>,
     init: Vec<u32>,
     /// per schema: value name → index.
@@ -111,7 +125,7 @@ fn chain_assumptions(ops: Vec<Operator>, vt: &mut VarTable) -> Vec<Operator> {
         format!("wrote {}", names.join(", "))
     }));
     vt.names.push("(assumption-chain)".into());
-    vt.values.push(values);
+    vt.values.push(values.into());
     vt.init.push(0);
     vt.schema.push(usize::MAX);
     let mut out = Vec::with_capacity(ops.len());
@@ -234,7 +248,7 @@ pub fn ground_with(
         schema: Vec::new(),
     };
     for (vi, v) in d.variables.iter().enumerate() {
-        let values = inst.values_of(d, vi);
+        let values: std::rc::Rc<[String]> = inst.values_of(d, vi).into();
         vt.value_index.push(
             values
                 .iter()
@@ -273,7 +287,7 @@ pub fn ground_with(
         if is_virtual {
             vt.exists.insert(o, vt.values.len());
             vt.names.push(format!("exists({})", objs.names[o]));
-            vt.values.push(vec!["no".into(), "yes".into()]);
+            vt.values.push(["no".to_string(), "yes".to_string()].into());
             vt.init.push(0);
             vt.schema.push(usize::MAX);
         }
@@ -305,40 +319,72 @@ pub fn ground_with(
             .max()
             .unwrap_or(0)
     };
-    // Instantiate every operator whose static conditions hold (variable conditions only need
-    // a value of the variable's domain); reachability is decided below on the ground operators.
-    let mut found: Vec<(usize, Vec<usize>)> = Vec::new();
-    for (oi, op) in d.operators.iter().enumerate() {
-        let mut at: Vec<Vec<&Cond>> = vec![Vec::new(); op.params.len() + 1];
-        for c in &op.pre {
-            at[depth_of(c)].push(c);
-        }
-        let cands: Vec<Vec<usize>> = op
-            .params
+    // Candidates per operator parameter: the objects of its type (virtual ones for `new`).
+    let cands_of = |op: &crate::domain::OpSchema| -> Vec<Vec<usize>> {
+        op.params
             .iter()
             .map(|p| {
                 objs.of_type(p.ty)
                     .filter(|&o| !p.new || objs.virtual_[o])
                     .collect()
             })
-            .collect();
+            .collect()
+    };
+    // The ground variables some effect of some operator may write (over every binding of its
+    // parameters, reachable or not). Any other variable keeps its initial value, so a
+    // condition on it is decided while enumerating, exactly as reachability would decide it
+    // later: operators that need another value of a fixed variable (an object's class once
+    // seen, where a found landmark lies) are never built.
+    let mut writable = vec![false; vt.values.len()];
+    for op in &d.operators {
+        let cands = cands_of(op);
+        for e in &op.eff {
+            let lists: Option<Vec<Vec<usize>>> = e
+                .args
+                .iter()
+                .map(|t| match t {
+                    crate::domain::Term::Param(i) => Some(cands[*i].clone()),
+                    crate::domain::Term::Name(n) => objs.index.get(n).map(|&o| vec![o]),
+                })
+                .collect();
+            let Some(lists) = lists else { continue };
+            for args in cartesian(&lists) {
+                if let Some(&v) = vt.ids[e.var].get(args.as_slice()) {
+                    writable[v] = true;
+                }
+            }
+        }
+    }
+    // Instantiate every operator whose static conditions hold (conditions on writable
+    // variables only need a value of the variable's domain); reachability is decided below on
+    // the ground operators.
+    let mut found: Vec<(usize, Vec<usize>)> = Vec::new();
+    for (oi, op) in d.operators.iter().enumerate() {
+        let mut at: Vec<Vec<&Cond>> = vec![Vec::new(); op.params.len() + 1];
+        for c in &op.pre {
+            at[depth_of(c)].push(c);
+        }
+        let cands = cands_of(op);
         let mut bindings = Vec::new();
         let mut b = Vec::new();
         let mut ctx = Enum {
             inst: &inst,
             vt: &vt,
+            writable: &writable,
+            scratch: Vec::new(),
             budget: &mut budget,
             found_before: found.len(),
         };
         ctx.enumerate(op, &at, &cands, &mut b, &mut bindings)?;
         found.extend(bindings.into_iter().map(|b| (oi, b)));
     }
-    // Build operators.
-    let mut ops = Vec::new();
+    // Build operators: conditions and effects only (their costs, probabilities and names
+    // wait for reachability).
+    let mut skels: Vec<Skeleton> = Vec::new();
+    let mut bindings: Vec<(usize, Vec<usize>)> = Vec::new();
     let mut scratch: Vec<usize> = Vec::new();
     for (oi, b) in found {
         let op = &d.operators[oi];
-        let key = || format!("{} {:?}", op.name, b);
         let mut pre = Assignment::default();
         let mut excluded: Vec<(usize, u32)> = Vec::new();
         let mut ok = true;
@@ -400,29 +446,6 @@ pub fn ground_with(
                 eff.insert(vt.exists[&b[pi]], 1);
             }
         }
-        let cost = eval(&op.cost, &inst, &b, f, "cost", &key)?;
-        let prob = eval(&op.prob, &inst, &b, f, "probability", &key)?;
-        let display = || {
-            let args: Vec<String> = b.iter().map(|&o| objs.names[o].clone()).collect();
-            op.display_with(&args)
-        };
-        if !(cost.is_finite() && cost >= 0.0) {
-            return Err(PlanError::Function {
-                call: display(),
-                message: format!("cost {cost}; expected a finite number ≥ 0"),
-            });
-        }
-        if !(0.0..=1.0).contains(&prob) {
-            return Err(PlanError::Function {
-                call: display(),
-                message: format!("probability {prob}; expected a number in [0, 1]"),
-            });
-        }
-        if prob == 0.0 {
-            continue;
-        }
-        let args: Vec<String> = b.iter().map(|&o| objs.names[o].clone()).collect();
-        let display = op.display_with(&args);
         // Expand `!=` conditions into one operator per remaining reachable value.
         let what = || format!("operator `{}`", op.name);
         let mut variants: Vec<Assignment> = vec![pre];
@@ -442,31 +465,66 @@ pub fn ground_with(
                         }
                     }
                 }
-                budget.found(what, ops.len() + next.len(), b.len())?;
+                budget.found(what, skels.len() + next.len(), b.len())?;
             }
             variants = next;
         }
+        let eff: Vec<(u32, u32)> = eff.0.iter().map(|&(v, x)| (v as u32, x)).collect();
         for p in variants {
-            budget.operator(what, ops.len() + 1, b.len())?;
-            ops.push(Operator {
-                schema: op.name.clone(),
-                args: args.clone(),
-                display: display.clone(),
+            budget.operator(what, skels.len() + 1, b.len())?;
+            skels.push(Skeleton {
+                binding: bindings.len() as u32,
                 pre: p.0.into_iter().map(|(v, x)| (v as u32, x)).collect(),
-                eff: eff.0.iter().map(|&(v, x)| (v as u32, x)).collect(),
-                cost,
-                prob,
-                assumption: op.assumption,
+                eff: eff.clone(),
             });
         }
+        bindings.push((oi, b));
     }
     // Relaxed reachability on the ground operators: keep those whose preconditions can all
-    // be reached from the initial state when nothing is ever deleted.
-    let mut live = vec![false; ops.len()];
+    // be reached from the initial state when nothing is ever deleted. A binding's cost and
+    // probability are evaluated when one of its operators is first reached (most never are),
+    // and an operator of probability 0 never applies.
+    let mut values: Vec<Option<(f64, f64)>> = vec![None; bindings.len()];
+    let mut live = vec![false; skels.len()];
+    let mut dead = vec![false; skels.len()];
     loop {
         let mut changed = false;
-        for (k, o) in ops.iter().enumerate() {
-            if live[k] || !o.pre.iter().all(|&(v, x)| reached[v as usize][x as usize]) {
+        for (k, o) in skels.iter().enumerate() {
+            if live[k] || dead[k] || !o.pre.iter().all(|&(v, x)| reached[v as usize][x as usize]) {
+                continue;
+            }
+            let bi = o.binding as usize;
+            let (cost, prob) = match values[bi] {
+                Some(cp) => cp,
+                None => {
+                    let (oi, b) = &bindings[bi];
+                    let op = &d.operators[*oi];
+                    let key = || format!("{} {:?}", op.name, b);
+                    let cp = (
+                        eval(&op.cost, &inst, b, f, "cost", &key)?,
+                        eval(&op.prob, &inst, b, f, "probability", &key)?,
+                    );
+                    values[bi] = Some(cp);
+                    cp
+                }
+            };
+            let cost_ok = cost.is_finite() && cost >= 0.0;
+            if !(cost_ok && (0.0..=1.0).contains(&prob)) {
+                let (oi, b) = &bindings[bi];
+                let op = &d.operators[*oi];
+                let args: Vec<String> = b.iter().map(|&o| objs.names[o].clone()).collect();
+                let message = if !cost_ok {
+                    format!("cost {cost}; expected a finite number ≥ 0")
+                } else {
+                    format!("probability {prob}; expected a number in [0, 1]")
+                };
+                return Err(PlanError::Function {
+                    call: op.display_with(&args),
+                    message,
+                });
+            }
+            if prob == 0.0 {
+                dead[k] = true;
                 continue;
             }
             live[k] = true;
@@ -479,13 +537,46 @@ pub fn ground_with(
             break;
         }
     }
-    let mut keep = live.iter();
-    ops.retain(|_| *keep.next().unwrap_or(&false));
+    // The reachable operators, in the order they were built, with their names.
+    let mut ops = Vec::with_capacity(live.iter().filter(|&&l| l).count());
+    let mut named: Option<(u32, Vec<String>, String)> = None;
+    for (k, sk) in skels.into_iter().enumerate() {
+        if !live[k] {
+            continue;
+        }
+        let (oi, b) = &bindings[sk.binding as usize];
+        let op = &d.operators[*oi];
+        if named.as_ref().is_none_or(|n| n.0 != sk.binding) {
+            let args: Vec<String> = b.iter().map(|&o| objs.names[o].clone()).collect();
+            let display = op.display_with(&args);
+            named = Some((sk.binding, args, display));
+        }
+        let Some((_, args, display)) = &named else {
+            unreachable!("named just above")
+        };
+        let Some((cost, prob)) = values[sk.binding as usize] else {
+            unreachable!("a live operator's binding was evaluated")
+        };
+        ops.push(Operator {
+            schema: op.name.clone(),
+            args: args.clone(),
+            display: display.clone(),
+            pre: sk.pre,
+            eff: sk.eff,
+            cost,
+            prob,
+            assumption: op.assumption,
+        });
+    }
+
+    // The assumption chain's variable, a search-control variable (`Variable::control`).
+    let mut control = None;
     // Assumptions first: a phase variable (assuming → acting) orders them.
     if d.assumptions_first {
         let v = vt.values.len();
         vt.names.push("(phase)".into());
-        vt.values.push(vec!["assuming".into(), "acting".into()]);
+        vt.values
+            .push(["assuming".to_string(), "acting".to_string()].into());
         vt.init.push(0);
         vt.schema.push(usize::MAX);
         for o in &mut ops {
@@ -498,6 +589,7 @@ pub fn ground_with(
             }
         }
         if d.assumption_chains {
+            control = Some(vt.values.len());
             ops = chain_assumptions(ops, &mut vt);
         }
     }
@@ -524,8 +616,8 @@ pub fn ground_with(
         if changed[v] {
             new_id[v] = task.variables.len() as u32;
             task.variables.push(Variable {
-                name: vt.names[v].clone(),
-                values: vt.values[v].clone(),
+                control: control == Some(v),
+                ..Variable::new(vt.names[v].clone(), vt.values[v].to_vec())
             });
             task.init.push(vt.init[v]);
         }
@@ -558,10 +650,10 @@ pub fn ground_with(
         }
     }
     if impossible {
-        task.variables.push(Variable {
-            name: "(goal-unreachable)".into(),
-            values: vec!["no".into(), "yes".into()],
-        });
+        task.variables.push(Variable::new(
+            "(goal-unreachable)",
+            vec!["no".into(), "yes".into()],
+        ));
         task.init.push(0);
         task.goal = vec![(task.variables.len() as u32 - 1, 1)];
     }
@@ -575,29 +667,46 @@ pub fn ground_with(
 struct Enum<'a> {
     inst: &'a Instance,
     vt: &'a VarTable,
+    /// Per ground variable: whether some effect may write it.
+    writable: &'a [bool],
+    scratch: Vec<usize>,
     budget: &'a mut Budget,
     /// Bindings of earlier operators already found.
     found_before: usize,
 }
 
 impl Enum<'_> {
-    fn holds(&self, c: &Cond, b: &[usize]) -> bool {
+    fn holds(&mut self, c: &Cond, b: &[usize]) -> bool {
         match c {
-            Cond::Rel { rel, args, negated } => match self.inst.obj_args(args, b) {
-                Some(a) => self.inst.facts.contains(&(*rel, a)) != *negated,
-                None => *negated,
-            },
+            Cond::Rel { rel, args, negated } => {
+                if self.inst.obj_args_into(args, b, &mut self.scratch) {
+                    self.inst.facts.contains(*rel, &self.scratch) != *negated
+                } else {
+                    *negated
+                }
+            }
             Cond::Eq { a, b: y, negated } => {
                 (self.inst.name(a, b) == self.inst.name(y, b)) != *negated
             }
             Cond::Var {
                 var,
+                args,
                 value,
                 negated,
-                ..
             } => {
-                // Decided by reachability later; here only: is the value in the domain?
-                *negated || self.vt.value_index[*var].contains_key(self.inst.name(value, b))
+                let Some(&x) = self.vt.value_index[*var].get(self.inst.name(value, b)) else {
+                    return *negated;
+                };
+                // A variable no effect writes keeps its initial value; any other condition is
+                // decided by reachability later.
+                if self.inst.obj_args_into(args, b, &mut self.scratch) {
+                    if let Some(&v) = self.vt.ids[*var].get(self.scratch.as_slice()) {
+                        if !self.writable[v] {
+                            return (self.vt.init[v] == x) != *negated;
+                        }
+                    }
+                }
+                true
             }
         }
     }

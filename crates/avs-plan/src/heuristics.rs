@@ -11,10 +11,18 @@
 //!
 //! A fact `⊤` (true in every state) is the precondition of operators with none, and an
 //! artificial goal operator of cost 0 achieves the fact `G` from the goal facts, as in the paper.
+//!
+//! Conditions on control variables ([`crate::task::Variable::control`]) are dropped, and the
+//! operators that then have the same conditions and effects become one relaxed operator with
+//! the cheapest of their costs (the grounding's assumption chain copies each assumption once
+//! per value of its variable: one 30-room object-search task had 3 640 operators, copies of
+//! 1 321 distinct ones). Dropping conditions relaxes further, so h^max and LM-cut stay
+//! admissible and consistent; they may be lower in a state where the control variable would
+//! have forced a costlier order.
 
 use crate::task::{Task, Val};
 use std::cmp::Reverse;
-use std::collections::BinaryHeap;
+use std::collections::{BinaryHeap, HashMap};
 
 const EPS: f64 = 1e-9;
 
@@ -45,6 +53,61 @@ fn key(d: f64) -> u64 {
     (d + 0.0).to_bits()
 }
 
+/// Rows of indices stored back to back (compressed sparse rows): one allocation, and a row's
+/// items adjacent in memory, which is what the explorations' inner loops walk.
+#[derive(Debug, Clone, Default)]
+struct Rows {
+    /// Row `i` is `items[start[i]..start[i + 1]]`.
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl Rows {
+    fn from_rows<I: IntoIterator<Item = u32>>(rows: impl IntoIterator<Item = I>) -> Self {
+        let mut r = Rows {
+            start: vec![0],
+            items: Vec::new(),
+        };
+        for row in rows {
+            r.items.extend(row);
+            r.start.push(r.items.len() as u32);
+        }
+        r
+    }
+
+    /// Rows `0..n` listing, for each `i`, the rows of `self` that contain `i` (the transpose).
+    fn transpose(&self, n: usize) -> Self {
+        let mut count = vec![0u32; n + 1];
+        for &x in &self.items {
+            count[x as usize + 1] += 1;
+        }
+        for i in 0..n {
+            count[i + 1] += count[i];
+        }
+        let mut items = vec![0u32; self.items.len()];
+        let mut next = count.clone();
+        for row in 0..self.len() {
+            for &x in self.row(row) {
+                items[next[x as usize] as usize] = row as u32;
+                next[x as usize] += 1;
+            }
+        }
+        Rows {
+            start: count,
+            items,
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.start.len() - 1
+    }
+
+    #[inline]
+    fn row(&self, i: usize) -> &[u32] {
+        &self.items[self.start[i] as usize..self.start[i + 1] as usize]
+    }
+}
+
 /// The delete relaxation of a task, built once and evaluated per state.
 #[derive(Debug, Clone)]
 pub struct Relaxed {
@@ -53,13 +116,18 @@ pub struct Relaxed {
     top: usize,
     goal_fact: usize,
     /// Per relaxed operator: preconditions (fact ids, never empty).
-    pre: Vec<Vec<usize>>,
+    pre: Rows,
+    /// Per relaxed operator: the number of preconditions (the explorations' initial counters).
+    n_pre: Vec<u32>,
     /// Per relaxed operator: effects (fact ids).
-    eff: Vec<Vec<usize>>,
+    eff: Rows,
+    /// Per relaxed operator: the task's operators it stands for (several when they differ
+    /// only in conditions on control variables; none for the goal operator).
+    members: Rows,
     /// For each fact, the relaxed operators having it as a precondition.
-    pre_of: Vec<Vec<usize>>,
+    pre_of: Rows,
     /// For each fact, the relaxed operators adding it.
-    achievers: Vec<Vec<usize>>,
+    achievers: Rows,
     /// The goal operator's index (last).
     goal_op: usize,
 }
@@ -71,55 +139,55 @@ impl Relaxed {
         let top = n;
         let goal_fact = n + 1;
         let n_facts = n + 2;
-        let mut pre = Vec::with_capacity(task.operators.len() + 1);
-        let mut eff = Vec::with_capacity(task.operators.len() + 1);
-        for o in &task.operators {
-            let mut p: Vec<usize> = o
-                .pre
-                .iter()
-                .map(|&(v, x)| offsets[v as usize] + x as usize)
-                .collect();
+        // Conditions on control variables are dropped (`Variable::control`): dropping
+        // preconditions relaxes further, so every estimate stays admissible and consistent.
+        let facts = |cs: &[(crate::task::Var, Val)]| -> Vec<u32> {
+            cs.iter()
+                .filter(|&&(v, _)| !task.variables[v as usize].control)
+                .map(|&(v, x)| (offsets[v as usize] + x as usize) as u32)
+                .collect()
+        };
+        // A fact `⊤` stands in for an empty precondition (also the goal's).
+        let or_top = |mut p: Vec<u32>| {
             if p.is_empty() {
-                p.push(top);
+                p.push(top as u32);
             }
-            pre.push(p);
-            eff.push(
-                o.eff
-                    .iter()
-                    .map(|&(v, x)| offsets[v as usize] + x as usize)
-                    .collect(),
-            );
+            p
+        };
+        // Operators identical once projected (a control variable's copies) become one.
+        let mut index: HashMap<(Vec<u32>, Vec<u32>), usize> = HashMap::new();
+        let mut pre_rows = Vec::new();
+        let mut eff_rows = Vec::new();
+        let mut member_rows: Vec<Vec<u32>> = Vec::new();
+        for (i, o) in task.operators.iter().enumerate() {
+            let k = (or_top(facts(&o.pre)), facts(&o.eff));
+            let r = *index.entry(k).or_insert_with_key(|k| {
+                pre_rows.push(k.0.clone());
+                eff_rows.push(k.1.clone());
+                member_rows.push(Vec::new());
+                pre_rows.len() - 1
+            });
+            member_rows[r].push(i as u32);
         }
-        let mut gp: Vec<usize> = task
-            .goal
-            .iter()
-            .map(|&(v, x)| offsets[v as usize] + x as usize)
-            .collect();
-        if gp.is_empty() {
-            gp.push(top);
-        }
-        pre.push(gp);
-        eff.push(vec![goal_fact]);
+        pre_rows.push(or_top(facts(&task.goal)));
+        eff_rows.push(vec![goal_fact as u32]);
+        member_rows.push(Vec::new());
+        let pre = Rows::from_rows(pre_rows);
+        let eff = Rows::from_rows(eff_rows);
+        let members = Rows::from_rows(member_rows);
         let goal_op = pre.len() - 1;
-        let mut pre_of = vec![Vec::new(); n_facts];
-        let mut achievers = vec![Vec::new(); n_facts];
-        for (i, p) in pre.iter().enumerate() {
-            for &f in p {
-                pre_of[f].push(i);
-            }
-        }
-        for (i, e) in eff.iter().enumerate() {
-            for &f in e {
-                achievers[f].push(i);
-            }
-        }
+        let n_pre = (0..pre.len()).map(|o| pre.row(o).len() as u32).collect();
+        let pre_of = pre.transpose(n_facts);
+        let achievers = eff.transpose(n_facts);
         Relaxed {
             offsets,
             n_facts,
             top,
             goal_fact,
             pre,
+            n_pre,
             eff,
+            members,
             pre_of,
             achievers,
             goal_op,
@@ -134,16 +202,25 @@ impl Relaxed {
             .chain(std::iter::once(self.top))
     }
 
-    /// The per-operator cost vector for `task`'s costs (the goal operator costs 0).
+    /// The per-relaxed-operator cost vector for `task`'s costs `f`: the cheapest of the
+    /// operators each stands for (the goal operator costs 0).
     pub fn costs_of(&self, task: &Task, f: impl Fn(&crate::task::Operator) -> f64) -> Vec<f64> {
-        let mut c: Vec<f64> = task.operators.iter().map(f).collect();
-        c.push(0.0);
-        c
+        (0..self.members.len())
+            .map(|r| {
+                self.members
+                    .row(r)
+                    .iter()
+                    .map(|&i| f(&task.operators[i as usize]))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .map(|c| if c.is_infinite() { 0.0 } else { c })
+            .collect()
     }
 
     /// Generalised Dijkstra for h^max (`sum = false`) or h^add (`sum = true`); fills `value`
-    /// per fact and `op_cost` (the operator's precondition value) per operator, and
-    /// `best` (the precondition with maximal value, or the cheapest achiever for h^add).
+    /// per fact and `op_val` (the operator's precondition value) per operator, `supporter`
+    /// (the precondition reached last: for h^max the one with maximal value) and, for h^add,
+    /// `achiever` (the cheapest achiever of each fact).
     fn explore(
         &self,
         state: &[Val],
@@ -152,19 +229,21 @@ impl Relaxed {
         ws: &mut Workspace,
         stop_at_goal: bool,
     ) {
-        let nops = self.pre.len();
+        let nops = self.n_pre.len();
         ws.value.clear();
         ws.value.resize(self.n_facts, f64::INFINITY);
         ws.op_val.clear();
         ws.op_val.resize(nops, f64::INFINITY);
         ws.unsat.clear();
-        ws.unsat.extend(self.pre.iter().map(|p| p.len() as u32));
+        ws.unsat.extend_from_slice(&self.n_pre);
         ws.supporter.clear();
         ws.supporter.resize(nops, usize::MAX);
-        ws.achiever.clear();
-        ws.achiever.resize(self.n_facts, usize::MAX);
-        ws.acc.clear();
-        ws.acc.resize(nops, 0.0);
+        if sum {
+            ws.achiever.clear();
+            ws.achiever.resize(self.n_facts, usize::MAX);
+            ws.acc.clear();
+            ws.acc.resize(nops, 0.0);
+        }
         ws.heap.clear();
         for f in self.state_facts(state) {
             ws.value[f] = 0.0;
@@ -178,7 +257,8 @@ impl Relaxed {
             if stop_at_goal && f == self.goal_fact {
                 break;
             }
-            for &o in &self.pre_of[f] {
+            for &o in self.pre_of.row(f) {
+                let o = o as usize;
                 if sum {
                     ws.acc[o] += d;
                 }
@@ -188,10 +268,13 @@ impl Relaxed {
                     let base = if sum { ws.acc[o] } else { d };
                     ws.op_val[o] = base;
                     let nd = base + costs[o];
-                    for &e in &self.eff[o] {
+                    for &e in self.eff.row(o) {
+                        let e = e as usize;
                         if nd < ws.value[e] {
                             ws.value[e] = nd;
-                            ws.achiever[e] = o;
+                            if sum {
+                                ws.achiever[e] = o;
+                            }
                             ws.heap.push(Reverse((key(nd), e as u32)));
                         }
                     }
@@ -231,7 +314,8 @@ impl Relaxed {
             ws.zone[self.goal_fact] = 1;
             ws.stack.push(self.goal_fact);
             while let Some(g) = ws.stack.pop() {
-                for &o in &self.achievers[g] {
+                for &o in self.achievers.row(g) {
+                    let o = o as usize;
                     if ws.unsat[o] == 0 && ws.cost[o] <= EPS {
                         let s = ws.supporter[o];
                         if ws.zone[s] == 0 {
@@ -248,7 +332,7 @@ impl Relaxed {
             for l in ws.by_sup.iter_mut() {
                 l.clear();
             }
-            for o in 0..self.pre.len() {
+            for o in 0..self.n_pre.len() {
                 if ws.unsat[o] == 0 {
                     let sp = ws.supporter[o];
                     ws.by_sup[sp].push(o);
@@ -266,7 +350,8 @@ impl Relaxed {
                 for k in 0..ws.by_sup[f].len() {
                     let o = ws.by_sup[f][k];
                     let mut in_cut = false;
-                    for &e in &self.eff[o] {
+                    for &e in self.eff.row(o) {
+                        let e = e as usize;
                         match ws.zone[e] {
                             1 => in_cut = true,
                             0 => {
@@ -306,10 +391,10 @@ impl Relaxed {
         for i in 0..ws.cut.len() {
             let o = ws.cut[i];
             let target = ws.op_val[o] + ws.cost[o];
-            for &e in &self.eff[o] {
-                if ws.value[e] > target {
-                    ws.value[e] = target;
-                    ws.heap.push(Reverse((key(target), e as u32)));
+            for &e in self.eff.row(o) {
+                if ws.value[e as usize] > target {
+                    ws.value[e as usize] = target;
+                    ws.heap.push(Reverse((key(target), e)));
                 }
             }
         }
@@ -318,14 +403,16 @@ impl Relaxed {
             if d > ws.value[f] {
                 continue;
             }
-            for &o in &self.pre_of[f] {
+            for &o in self.pre_of.row(f) {
+                let o = o as usize;
                 if ws.unsat[o] != 0 || ws.supporter[o] != f || ws.op_val[o] <= d {
                     continue;
                 }
                 // Re-select the supporter: the precondition with the largest value.
                 let mut best = f;
                 let mut bv = f64::NEG_INFINITY;
-                for &p in &self.pre[o] {
+                for &p in self.pre.row(o) {
+                    let p = p as usize;
                     if ws.value[p] > bv {
                         bv = ws.value[p];
                         best = p;
@@ -335,10 +422,10 @@ impl Relaxed {
                 if bv < ws.op_val[o] {
                     ws.op_val[o] = bv;
                     let target = bv + ws.cost[o];
-                    for &e in &self.eff[o] {
-                        if ws.value[e] > target {
-                            ws.value[e] = target;
-                            ws.heap.push(Reverse((key(target), e as u32)));
+                    for &e in self.eff.row(o) {
+                        if ws.value[e as usize] > target {
+                            ws.value[e as usize] = target;
+                            ws.heap.push(Reverse((key(target), e)));
                         }
                     }
                 }
@@ -361,7 +448,7 @@ impl Relaxed {
             return None;
         }
         ws.mark.clear();
-        ws.mark.resize(self.pre.len(), false);
+        ws.mark.resize(self.n_pre.len(), false);
         ws.seen.clear();
         ws.seen.resize(self.n_facts, false);
         ws.stack.clear();
@@ -377,10 +464,11 @@ impl Relaxed {
             if o != self.goal_op {
                 h += costs[o];
                 if ws.op_val[o] == 0.0 {
-                    preferred.push(o);
+                    preferred.extend(self.members.row(o).iter().map(|&i| i as usize));
                 }
             }
-            for &p in &self.pre[o] {
+            for &p in self.pre.row(o) {
+                let p = p as usize;
                 if !ws.seen[p] {
                     ws.seen[p] = true;
                     ws.stack.push(p);
@@ -413,7 +501,48 @@ pub struct Workspace {
 
 #[cfg(test)]
 mod tests {
-    use super::key;
+    use super::{key, Relaxed, Workspace};
+    use crate::task::{Operator, Task, Variable};
+
+    #[test]
+    fn copies_that_differ_only_in_a_control_variable_are_one_relaxed_operator() {
+        // g: no → yes by `o`, copied once per value of the control variable c.
+        let op = |c: u32, cost: f64| Operator {
+            schema: "o".into(),
+            args: vec![],
+            display: "O".into(),
+            pre: vec![(0, 0), (1, c)],
+            eff: vec![(0, 1), (1, 0)],
+            cost,
+            prob: 1.0,
+            assumption: false,
+        };
+        let mut task = Task {
+            variables: vec![
+                Variable::new("g", vec!["no".into(), "yes".into()]),
+                Variable {
+                    control: true,
+                    ..Variable::new("c", vec!["0".into(), "1".into(), "2".into()])
+                },
+            ],
+            init: vec![0, 2],
+            goal: vec![(0, 1)],
+            operators: vec![op(0, 3.0), op(1, 2.0), op(2, 5.0)],
+        };
+        let r = Relaxed::new(&task);
+        assert_eq!(r.n_pre.len(), 2, "one relaxed operator and the goal's");
+        assert_eq!(r.members.row(0), [0, 1, 2]);
+        // The merged operator costs the cheapest copy's cost: below the copy that applies.
+        let costs = r.costs_of(&task, |o| o.cost);
+        let mut ws = Workspace::default();
+        assert_eq!(r.hmax(&task.init, &costs, &mut ws), Some(2.0));
+        // An ordinary variable in the same place keeps its copies apart.
+        task.variables[1].control = false;
+        let r = Relaxed::new(&task);
+        assert_eq!(r.n_pre.len(), 4);
+        let costs = r.costs_of(&task, |o| o.cost);
+        assert_eq!(r.hmax(&task.init, &costs, &mut ws), Some(5.0));
+    }
 
     #[test]
     fn heap_keys_order_as_the_non_negative_values_they_encode() {

@@ -99,7 +99,7 @@ impl<'a> LiftedState<'a> {
     fn holds(&self, c: &Cond, b: &[usize]) -> bool {
         match c {
             Cond::Rel { rel, args, negated } => match self.inst.obj_args(args, b) {
-                Some(a) => self.inst.facts.contains(&(*rel, a)) != *negated,
+                Some(a) => self.inst.facts.contains(*rel, &a) != *negated,
                 None => *negated,
             },
             Cond::Eq { a, b: y, negated } => {

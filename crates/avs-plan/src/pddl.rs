@@ -817,10 +817,7 @@ pub fn ground_with(
     let mut task = Task {
         variables: atoms
             .iter()
-            .map(|a| Variable {
-                name: name(a),
-                values: vec!["false".into(), "true".into()],
-            })
+            .map(|a| Variable::new(name(a), vec!["false".into(), "true".into()]))
             .collect(),
         init: atoms.iter().map(|a| init.contains(a) as u32).collect(),
         goal: Vec::new(),
@@ -972,10 +969,10 @@ pub fn ground_with(
 }
 
 fn unsolvable(mut task: Task) -> Task {
-    task.variables.push(Variable {
-        name: "(unreachable-goal)".into(),
-        values: vec!["false".into(), "true".into()],
-    });
+    task.variables.push(Variable::new(
+        "(unreachable-goal)",
+        vec!["false".into(), "true".into()],
+    ));
     task.init.push(0);
     task.goal = vec![(task.variables.len() as u32 - 1, 1)];
     task.operators.clear();

@@ -75,13 +75,33 @@ impl Problem {
 /// A ground variable: schema index and argument objects.
 pub type GroundVar = (usize, Vec<usize>);
 
+/// Static facts `relation(objects)`, one set per relation, so that a lookup borrows its
+/// arguments (grounding checks one per candidate binding).
+#[derive(Debug, Clone, Default)]
+pub struct StaticFacts(Vec<HashSet<Vec<usize>, foldhash::fast::FixedState>>);
+
+impl StaticFacts {
+    /// Add `rel(args)`.
+    pub fn insert(&mut self, rel: usize, args: Vec<usize>) {
+        if self.0.len() <= rel {
+            self.0.resize_with(rel + 1, Default::default);
+        }
+        self.0[rel].insert(args);
+    }
+
+    /// Whether `rel(args)` holds.
+    pub fn contains(&self, rel: usize, args: &[usize]) -> bool {
+        self.0.get(rel).is_some_and(|s| s.contains(args))
+    }
+}
+
 /// A problem resolved against a domain.
 #[derive(Debug, Clone)]
 pub struct Instance {
     /// All objects (constants, problem objects, virtual objects).
     pub objects: Objects,
     /// Static facts (relation, objects).
-    pub facts: HashSet<(usize, Vec<usize>)>,
+    pub facts: StaticFacts,
     /// Given initial values.
     pub init: HashMap<GroundVar, String>,
     /// Goal: (variable, value).
@@ -123,13 +143,13 @@ impl Instance {
         }
         let mut inst = Instance {
             objects,
-            facts: HashSet::new(),
+            facts: StaticFacts::default(),
             init: HashMap::new(),
             goal: Vec::new(),
         };
         for (ri, args) in &d.facts {
             let objs = args.iter().map(|a| inst.objects.index[a]).collect();
-            inst.facts.insert((*ri, objs));
+            inst.facts.insert(*ri, objs);
         }
         for (i, f) in p.facts.iter().enumerate() {
             let e = expr::parse(f).map_err(|m| perr(format!("facts[{i}] `{f}`: {m}")))?;
@@ -146,7 +166,7 @@ impl Instance {
                     let objs = inst
                         .objs(&args, &d.relations[ri].1, d)
                         .map_err(|m| perr(format!("facts[{i}] `{f}`: {m}")))?;
-                    inst.facts.insert((ri, objs));
+                    inst.facts.insert(ri, objs);
                 }
                 _ => {
                     return Err(perr(format!(

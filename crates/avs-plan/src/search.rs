@@ -17,6 +17,15 @@
 //!
 //! Ties on f are broken by smaller heuristic (deeper first), then by generation order (FIFO), so
 //! runs are deterministic.
+//!
+//! # Lazy evaluation, one part at a time
+//! A child is queued with a bound carried from its parent (h(parent) − cost for h_c,
+//! h_ℓ(parent) + ln p for h_ℓ; both lower bounds because h^max and LM-cut are consistent) and
+//! evaluated when popped. The two parts are separate relaxed explorations, so they are computed
+//! one at a time, h_ℓ first: when f with the first part already exceeds the key the state was
+//! popped with, it goes back to the queue without the second (on the object-search domain most
+//! generated states are never expanded). Any mix of computed parts and carried bounds is a lower
+//! bound, so the first goal popped is still optimal.
 
 use crate::heuristics::{Prio, Relaxed, Workspace};
 use crate::task::{Plan, SearchStats, Task, Val};
@@ -335,8 +344,42 @@ struct AStar<'t> {
     c_lp: Vec<f64>,
     ws: Workspace,
     reg: Registry,
-    /// Per state: (h_cost, h_lp) or None when not evaluated.
-    heur: Vec<Option<(f64, f64)>>,
+    /// Per state: what is known of (h_cost, h_lp).
+    heur: Vec<Est>,
+}
+
+/// What is known of a state's heuristic values (h_cost, h_lp): each part is either computed
+/// (`exact`) or an admissible lower bound carried from a parent (initially 0).
+#[derive(Debug, Clone, Copy, Default)]
+struct Est {
+    h: (f64, f64),
+    exact: [bool; 2],
+}
+
+impl Est {
+    fn set(&mut self, part: usize, v: f64) {
+        if part == 0 {
+            self.h.0 = v;
+        } else {
+            self.h.1 = v;
+        }
+        self.exact[part] = true;
+    }
+
+    /// Raise the parts not computed yet to the bound `b` (the larger of two lower bounds is one).
+    fn raise(&mut self, b: (f64, f64)) {
+        if !self.exact[0] {
+            self.h.0 = self.h.0.max(b.0);
+        }
+        if !self.exact[1] {
+            self.h.1 = self.h.1.max(b.1);
+        }
+    }
+
+    /// The goal is unreachable from the state even in the relaxation.
+    fn dead(&self) -> bool {
+        self.h.0.is_infinite() || self.h.1.is_infinite()
+    }
 }
 
 impl<'t> AStar<'t> {
@@ -358,7 +401,7 @@ impl<'t> AStar<'t> {
     fn run(&mut self, opts: &SearchOptions) -> Result<(Option<Plan>, SearchStats), PlanError> {
         let task = self.task;
         let use_h = opts.mode == Mode::Optimal;
-        // (A state evaluated in a run with R = 0 keeps h_lp = 0 for later runs: still a lower bound.)
+        // With R = 0 (or certain operators) the −ln p part has no weight in f: it is not computed.
         let probabilistic = !task.is_deterministic() && opts.reward > 0.0;
         let (relaxed, c_cost, c_lp) = (&self.relaxed, &self.c_cost, &self.c_lp);
         let ws = &mut self.ws;
@@ -375,44 +418,44 @@ impl<'t> AStar<'t> {
         } else {
             f64::NEG_INFINITY
         };
-        let mut eval = |s: &[Val], stats: &mut SearchStats| -> Option<(f64, f64)> {
-            if !use_h {
-                return Some((0.0, 0.0));
+        // One component of the heuristic: 0 on cost, 1 on −ln p; `None` at a relaxed dead end.
+        let mut eval = |s: &[Val], part: usize| -> Option<f64> {
+            let c = if part == 0 { c_cost } else { c_lp };
+            match opts.heuristic {
+                Heuristic::HMax => relaxed.hmax(s, c, ws),
+                Heuristic::LmCut => relaxed.lmcut(s, c, ws),
             }
-            stats.evaluated += 1;
-            let hc = match opts.heuristic {
-                Heuristic::HMax => relaxed.hmax(s, c_cost, ws)?,
-                Heuristic::LmCut => relaxed.lmcut(s, c_cost, ws)?,
-            };
-            let hl = if probabilistic {
-                match opts.heuristic {
-                    Heuristic::HMax => relaxed.hmax(s, c_lp, ws)?,
-                    Heuristic::LmCut => relaxed.lmcut(s, c_lp, ws)?,
-                }
-            } else {
-                0.0
-            };
-            Some((hc, hl))
+        };
+        // The parts a state still needs, in the order they are computed: the −ln p part first,
+        // which moves f the most where R is large (every assumption lowers p).
+        let parts: &[usize] = match (use_h, probabilistic) {
+            (false, _) => &[],
+            (true, true) => &[1, 0],
+            (true, false) => &[0],
         };
         let f_of = |g: f64, lp: f64, h: (f64, f64)| -> f64 {
             g + h.0 + opts.reward * (1.0 - (lp - h.1).exp())
         };
         let (sid, new) = reg.insert(&task.init);
         if new {
-            heur.push(None);
+            heur.push(Est::default());
             labels.push(Vec::new());
         }
-        let h0 = match heur[sid as usize] {
-            Some(h) => h,
-            None => {
-                let Some(h) = eval(&task.init, &mut stats) else {
-                    return Ok((None, stats));
-                };
-                heur[sid as usize] = Some(h);
-                h
+        for &part in parts {
+            let e = &mut heur[sid as usize];
+            if e.exact[part] {
+                continue;
             }
-        };
-        if h0.0.is_infinite() {
+            if !e.exact.iter().any(|&x| x) {
+                stats.evaluated += 1;
+            }
+            match eval(&task.init, part) {
+                Some(h) => e.set(part, h),
+                None => return Ok((None, stats)),
+            }
+        }
+        let h0 = heur[sid as usize].h;
+        if h0.0.is_infinite() || h0.1.is_infinite() {
             return Ok((None, stats));
         }
         labels[sid as usize].push(0);
@@ -420,31 +463,42 @@ impl<'t> AStar<'t> {
         open.push(Reverse((Prio(f_of(0.0, 0.0, h0)), Prio(h0.0), seq, 0u32)));
         let mut s = Vec::new();
         let mut t = Vec::new();
-        while let Some(Reverse((Prio(key_f), _, _, n))) = open.pop() {
+        'pop: while let Some(Reverse((Prio(key_f), _, _, n))) = open.pop() {
             let node = &nodes[n as usize];
             if node.stale {
                 continue;
             }
             let (g, lp, st) = (node.g, node.lp, node.state);
             reg.get(st, &mut s);
-            if heur[st as usize].is_none() {
-                match eval(&s, &mut stats) {
-                    Some(h) => {
-                        heur[st as usize] = Some(h);
-                        let f = f_of(g, lp, h);
-                        if f > key_f + 1e-9 {
-                            seq += 1;
-                            open.push(Reverse((Prio(f), Prio(h.0), seq, n)));
-                            continue;
-                        }
-                    }
+            // Lazy evaluation, one part at a time: a state whose f rises above its key after
+            // one part goes back to the queue without the other (most never come back).
+            for &part in parts {
+                let e = &mut heur[st as usize];
+                if e.dead() {
+                    continue 'pop;
+                }
+                if e.exact[part] {
+                    continue;
+                }
+                if !e.exact.iter().any(|&x| x) {
+                    stats.evaluated += 1;
+                }
+                match eval(&s, part) {
+                    Some(h) => e.set(part, h),
                     None => {
-                        heur[st as usize] = Some((f64::INFINITY, f64::INFINITY));
-                        continue;
+                        e.set(part, f64::INFINITY);
+                        continue 'pop;
                     }
                 }
+                let h = e.h;
+                let f = f_of(g, lp, h);
+                if f > key_f + 1e-9 {
+                    seq += 1;
+                    open.push(Reverse((Prio(f), Prio(h.0), seq, n)));
+                    continue 'pop;
+                }
             }
-            if heur[st as usize].is_some_and(|h| h.0.is_infinite()) {
+            if heur[st as usize].dead() {
                 continue;
             }
             if task.is_goal(&s) {
@@ -467,7 +521,7 @@ impl<'t> AStar<'t> {
                 stats.generated += 1;
                 let (sid2, new) = reg.insert(&t);
                 if new {
-                    heur.push(None);
+                    heur.push(Est::default());
                     labels.push(Vec::new());
                 }
                 let si = sid2 as usize;
@@ -485,14 +539,10 @@ impl<'t> AStar<'t> {
                 }
                 // Deferred evaluation: a child is queued with the admissible estimate
                 // max(0, h(parent) − cost) (h(parent) ≤ cost + h*(child)) and evaluated when popped.
-                let h = match heur[si] {
-                    Some(h) => h,
-                    None => {
-                        let ph = heur[st as usize].unwrap_or((0.0, 0.0));
-                        ((ph.0 - o.cost).max(0.0), (ph.1 + o.prob.ln()).max(0.0))
-                    }
-                };
-                if h.0.is_infinite() {
+                let ph = heur[st as usize].h;
+                heur[si].raise(((ph.0 - o.cost).max(0.0), (ph.1 + o.prob.ln()).max(0.0)));
+                let h = heur[si].h;
+                if heur[si].dead() {
                     continue;
                 }
                 let mut keep = Vec::with_capacity(labels[si].len() + 1);

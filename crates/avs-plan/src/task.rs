@@ -16,6 +16,23 @@ pub struct Variable {
     pub name: String,
     /// Names of the values; the domain is `0..values.len()`.
     pub values: Vec<String>,
+    /// A search-control variable: it only orders operators (to cut symmetric plans, as the
+    /// grounding's assumption chain does) and is copied into operators once per value it may
+    /// hold. The delete-relaxation heuristics drop its conditions and merge the copies that
+    /// become identical (`heuristics`): an admissible, consistent weakening that makes each
+    /// evaluation several times cheaper.
+    pub control: bool,
+}
+
+impl Variable {
+    /// An ordinary (not control) variable.
+    pub fn new(name: impl Into<String>, values: Vec<String>) -> Self {
+        Variable {
+            name: name.into(),
+            values,
+            control: false,
+        }
+    }
 }
 
 /// One grounded operator.
@@ -347,10 +364,7 @@ mod tests {
 
     /// Variables a, b, c with values 0/1; the goal is a = 1.
     fn task(operators: Vec<Operator>) -> Task {
-        let var = |n: &str| Variable {
-            name: n.into(),
-            values: vec!["0".into(), "1".into()],
-        };
+        let var = |n: &str| Variable::new(n, vec!["0".into(), "1".into()]);
         Task {
             variables: vec![var("a"), var("b"), var("c")],
             init: vec![0, 0, 0],

@@ -77,9 +77,11 @@ fn arb_task() -> impl Strategy<Value = Task> {
                 };
                 Task {
                     variables: (0..nv)
-                        .map(|i| Variable {
-                            name: format!("v{i}"),
-                            values: (0..dom).map(|k| k.to_string()).collect(),
+                        .map(|i| {
+                            Variable::new(
+                                format!("v{i}"),
+                                (0..dom).map(|k| k.to_string()).collect(),
+                            )
                         })
                         .collect(),
                     init,
@@ -103,8 +105,63 @@ fn arb_task() -> impl Strategy<Value = Task> {
     })
 }
 
+/// `task` with a control variable `c` (values 0..=2, initially 0) in the style of the
+/// grounding's assumption chain: operator `i` sets `c := 1 + i % 2` and is copied once per value
+/// of `c` it may follow (`after[i]`, a bit per value; at least one), so `c` restricts which
+/// operator may follow which.
+fn with_control_variable(task: &Task, after: &[u8]) -> Task {
+    let c = task.variables.len() as u32;
+    let mut t = task.clone();
+    t.variables.push(Variable {
+        control: true,
+        ..Variable::new("c", vec!["0".into(), "1".into(), "2".into()])
+    });
+    t.init.push(0);
+    t.operators = Vec::new();
+    for (i, o) in task.operators.iter().enumerate() {
+        let mask = after[i % after.len()].max(1);
+        for k in 0..3u32 {
+            if mask & (1 << k) == 0 {
+                continue;
+            }
+            let mut copy = o.clone();
+            copy.pre.push((c, k));
+            copy.eff.push((c, 1 + i as u32 % 2));
+            t.operators.push(copy);
+        }
+    }
+    t
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
+    #[test]
+    fn a_control_variable_restricts_orders_and_the_optimum_still_equals_brute_force(
+        task in arb_task(),
+        after in prop::collection::vec(1u8..8, 1..=7),
+        reward in prop::sample::select(vec![0.0, 5.0, 40.0]),
+    ) {
+        // The heuristics drop conditions on `c` and merge the copies: still admissible.
+        let task = with_control_variable(&task, &after);
+        let expect = brute_force(&task, reward, 0.0);
+        for heuristic in [Heuristic::LmCut, Heuristic::HMax] {
+            let (plan, _) = search(&task, &SearchOptions { heuristic, reward, ..Default::default() }).unwrap();
+            match (&plan, expect) {
+                (None, None) => {}
+                (Some(p), Some(e)) => {
+                    prop_assert!((p.objective - e).abs() < 1e-9, "{heuristic:?}: {} vs brute force {e}", p.objective);
+                    prop_assert!(validate_sas(&task, &p.steps).is_ok());
+                }
+                _ => prop_assert!(false, "{heuristic:?}: plan {:?} vs brute force {:?}", plan, expect),
+            }
+        }
+        let (fast, _) = search(&task, &SearchOptions { mode: Mode::Fast, reward, ..Default::default() }).unwrap();
+        prop_assert_eq!(fast.is_some(), expect.is_some());
+        if let Some(f) = fast {
+            prop_assert!(validate_sas(&task, &f.steps).is_ok());
+        }
+    }
+
     #[test]
     fn optimal_objective_equals_brute_force(task in arb_task(), reward in prop::sample::select(vec![0.0, 5.0, 40.0])) {
         let expect = brute_force(&task, reward, 0.0);
@@ -152,10 +209,7 @@ proptest! {
 fn reward_trades_cost_against_success_probability() {
     // Two routes to the goal: cheap and unlikely (cost 1, p 0.2), dear and likely (cost 10, p 0.9).
     let task = Task {
-        variables: vec![Variable {
-            name: "g".into(),
-            values: vec!["no".into(), "yes".into()],
-        }],
+        variables: vec![Variable::new("g", vec!["no".into(), "yes".into()])],
         init: vec![0],
         goal: vec![(0, 1)],
         operators: vec![
