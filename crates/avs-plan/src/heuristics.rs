@@ -17,7 +17,7 @@
 //! the cheapest of their costs (the grounding's assumption chain copies each assumption once
 //! per value of its variable: one 30-room object-search task had 3 640 operators, copies of
 //! 1 321 distinct ones). Dropping conditions relaxes further, so h^max and LM-cut stay
-//! admissible and consistent; they may be lower in a state where the control variable would
+//! admissible (and h^max consistent); they may be lower in a state where the control variable would
 //! have forced a costlier order.
 
 use crate::task::{Task, Val};
@@ -140,7 +140,7 @@ impl Relaxed {
         let goal_fact = n + 1;
         let n_facts = n + 2;
         // Conditions on control variables are dropped (`Variable::control`): dropping
-        // preconditions relaxes further, so every estimate stays admissible and consistent.
+        // preconditions relaxes further, so every estimate stays admissible.
         let facts = |cs: &[(crate::task::Var, Val)]| -> Vec<u32> {
             cs.iter()
                 .filter(|&&(v, _)| !task.variables[v as usize].control)
@@ -205,7 +205,7 @@ impl Relaxed {
     /// The per-relaxed-operator cost vector for `task`'s costs `f`: the cheapest of the
     /// operators each stands for (the goal operator costs 0).
     pub fn costs_of(&self, task: &Task, f: impl Fn(&crate::task::Operator) -> f64) -> Vec<f64> {
-        (0..self.members.len())
+        (0..self.goal_op)
             .map(|r| {
                 self.members
                     .row(r)
@@ -213,7 +213,7 @@ impl Relaxed {
                     .map(|&i| f(&task.operators[i as usize]))
                     .fold(f64::INFINITY, f64::min)
             })
-            .map(|c| if c.is_infinite() { 0.0 } else { c })
+            .chain(std::iter::once(0.0))
             .collect()
     }
 

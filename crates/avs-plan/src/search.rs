@@ -20,8 +20,8 @@
 //!
 //! # Lazy evaluation, one part at a time
 //! A child is queued with a bound carried from its parent (h(parent) − cost for h_c,
-//! h_ℓ(parent) + ln p for h_ℓ; both lower bounds because h^max and LM-cut are consistent) and
-//! evaluated when popped. The two parts are separate relaxed explorations, so they are computed
+//! h_ℓ(parent) + ln p for h_ℓ; lower bounds because h(parent) ≤ h*(parent) ≤ cost + h*(child))
+//! and evaluated when popped. The two parts are separate relaxed explorations, so they are computed
 //! one at a time, h_ℓ first: when f with the first part already exceeds the key the state was
 //! popped with, it goes back to the queue without the second (on the object-search domain most
 //! generated states are never expanded). Any mix of computed parts and carried bounds is a lower

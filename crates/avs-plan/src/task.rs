@@ -19,7 +19,7 @@ pub struct Variable {
     /// A search-control variable: it only orders operators (to cut symmetric plans, as the
     /// grounding's assumption chain does) and is copied into operators once per value it may
     /// hold. The delete-relaxation heuristics drop its conditions and merge the copies that
-    /// become identical (`heuristics`): an admissible, consistent weakening that makes each
+    /// become identical (`heuristics`): an admissible weakening that makes each
     /// evaluation several times cheaper.
     pub control: bool,
 }
