@@ -437,8 +437,9 @@ pub fn run_trial<'m>(
             threshold: tau,
             ..GreedyConfig::default()
         }),
+        // The planned verifier's depth, within RTBSS's node budget (the issue: depth = ours).
         Strategy::Rtbss => Verifier::Rtbss(RtbssConfig {
-            depth: planned_cfg.depth.min(3),
+            depth: planned_cfg.depth,
             ..RtbssConfig::default()
         }),
     };

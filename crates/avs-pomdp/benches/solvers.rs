@@ -60,6 +60,7 @@ fn viewcone(c: &mut Criterion) {
         online: OnlineOptions {
             depth: 2,
             time_limit: None,
+            node_limit: None,
         },
         max_steps: 100,
         sweep_bounds: false,

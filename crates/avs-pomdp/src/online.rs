@@ -14,8 +14,10 @@
 //!
 //! `L` and `U` are the offline bounds of [`crate::bounds::Bounds`]. Because `U` bounds the depth-limited
 //! value with leaves `L` from above, branch-and-bound never changes the value: it equals brute-force
-//! [`expectimax`] to the same depth with the same leaves. The search is anytime: with a time budget it
-//! deepens iteratively and returns the deepest completed answer.
+//! [`expectimax`] to the same depth with the same leaves. The search is anytime: with a budget it
+//! deepens iteratively and returns the deepest completed answer. The budget is wall time
+//! (`time_limit`, answers depend on the machine) or belief nodes (`node_limit`, deterministic:
+//! the same model, belief and limit give the same answer anywhere).
 
 use crate::bounds::Bounds;
 use crate::error::{PomdpError, Result};
@@ -29,6 +31,9 @@ pub struct OnlineOptions {
     pub depth: usize,
     /// Optional wall-time budget; the search deepens from 1 and keeps the deepest completed result.
     pub time_limit: Option<Duration>,
+    /// Optional budget of belief nodes expanded over all depths; like `time_limit`, the search
+    /// deepens from 1 and keeps the deepest depth completed within it (depth 1 always completes).
+    pub node_limit: Option<usize>,
 }
 
 impl Default for OnlineOptions {
@@ -36,6 +41,7 @@ impl Default for OnlineOptions {
         Self {
             depth: 2,
             time_limit: None,
+            node_limit: None,
         }
     }
 }
@@ -57,13 +63,15 @@ struct Search<'a> {
     m: &'a Pomdp,
     bounds: &'a Bounds,
     deadline: Option<Instant>,
+    /// Expand no node once `nodes` reaches this.
+    node_limit: Option<usize>,
     nodes: usize,
     scratch: Vec<f64>,
     touched: Vec<usize>,
 }
 
 impl Search<'_> {
-    /// Returns `None` when the deadline passed.
+    /// Returns `None` when the deadline passed or the node budget is spent.
     fn expand(&mut self, b: &[(usize, f64)], d: usize) -> Option<(f64, usize)> {
         if d == 0 {
             return Some((self.bounds.lower_sparse(b).0, 0));
@@ -72,6 +80,9 @@ impl Search<'_> {
             if self.nodes & 63 == 0 && Instant::now() >= t {
                 return None;
             }
+        }
+        if self.node_limit.is_some_and(|n| self.nodes >= n) {
+            return None;
         }
         self.nodes += 1;
         let gamma = self.m.discount();
@@ -162,24 +173,26 @@ pub(crate) fn rtbss_sparse(
         m,
         bounds,
         deadline: opts.time_limit.map(|t| start + t),
+        node_limit: opts.node_limit,
         nodes: 0,
         scratch: vec![0.0; m.n_states()],
         touched: Vec::new(),
     };
-    let first_depth = if opts.time_limit.is_some() {
+    let first_depth = if opts.time_limit.is_some() || opts.node_limit.is_some() {
         1
     } else {
         opts.depth
     };
     let mut result: Option<OnlineDecision> = None;
     for d in first_depth..=opts.depth {
-        let deadline = search.deadline;
+        let (deadline, node_limit) = (search.deadline, search.node_limit);
         if result.is_none() {
             // Always complete depth 1 so there is an answer.
             search.deadline = None;
+            search.node_limit = None;
         }
         let out = search.expand(b, d);
-        search.deadline = deadline;
+        (search.deadline, search.node_limit) = (deadline, node_limit);
         match out {
             Some((value, action)) => {
                 result = Some(OnlineDecision {

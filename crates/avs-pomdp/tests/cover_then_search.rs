@@ -56,6 +56,7 @@ fn cones_planned_for_a_room_lead_a_perfect_sensor_to_the_target_cell() {
         online: OnlineOptions {
             depth: 1,
             time_limit: None,
+            node_limit: None,
         },
         max_steps: 2 * plan.views.len(),
         sweep_bounds: false,

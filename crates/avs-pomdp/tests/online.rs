@@ -44,6 +44,7 @@ fn check_agreement(p: &ViewConeProblem, depth: usize, gap: f64) {
         &OnlineOptions {
             depth,
             time_limit: None,
+            node_limit: None,
         },
     )
     .unwrap();
@@ -111,6 +112,7 @@ fn rtbss_prunes_nodes_yet_keeps_the_value() {
         &OnlineOptions {
             depth: 3,
             time_limit: None,
+            node_limit: None,
         },
     )
     .unwrap();
@@ -139,9 +141,53 @@ fn a_time_budgeted_search_still_returns_a_decision() {
         &OnlineOptions {
             depth: 50,
             time_limit: Some(std::time::Duration::from_millis(5)),
+            node_limit: None,
         },
     )
     .unwrap();
     assert!(on.depth >= 1 && on.depth <= 50);
     assert!(on.action < m.n_actions());
+}
+
+#[test]
+fn a_node_budget_keeps_the_deepest_depth_it_completes_and_its_exact_value() {
+    let p = problem(vec![0.3, 0.3, 0.2], 0.5);
+    let vc = ViewConePomdp::new(&p).unwrap();
+    let m = vc.pomdp();
+    let sol = solve(
+        m,
+        &OfflineOptions {
+            target_gap: 0.1,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let b0 = m.initial_belief();
+    let run = |depth: usize, node_limit: Option<usize>| {
+        rtbss(
+            m,
+            &sol.bounds,
+            b0,
+            &OnlineOptions {
+                depth,
+                time_limit: None,
+                node_limit,
+            },
+        )
+        .unwrap()
+    };
+    // The nodes a full search of each depth needs, deepening from 1 as the budgeted search does.
+    let full: Vec<usize> = (1..=4).map(|d| run(d, None).nodes).collect();
+    let cumulative = |d: usize| full[..d].iter().sum::<usize>();
+    // Enough for depths 1–3 in turn, not for depth 4 as well: depth 3 is the answer.
+    let limit = cumulative(3) + full[3] / 2;
+    let on = run(4, Some(limit));
+    assert_eq!(on.depth, 3, "budget {limit}, full searches {full:?}");
+    let lower = |b: &[f64]| sol.bounds.lower(b);
+    let (ev, _) = expectimax(m, b0, 3, &lower).unwrap();
+    assert!((on.value - ev).abs() <= 1e-9, "{} vs {ev}", on.value);
+    // Deterministic: the same budget gives the same answer, node for node.
+    assert_eq!(run(4, Some(limit)), on);
+    // A budget too small for depth 2 still answers at depth 1.
+    assert_eq!(run(4, Some(1)).depth, 1);
 }

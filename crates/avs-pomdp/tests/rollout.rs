@@ -31,6 +31,7 @@ fn one_pass_options(depth: usize) -> SessionOptions {
         online: OnlineOptions {
             depth,
             time_limit: None,
+            node_limit: None,
         },
         policy: SessionPolicy::OnePassRollout,
         ..SessionOptions::default()

@@ -74,6 +74,7 @@ fn quick_options() -> SessionOptions {
         online: OnlineOptions {
             depth: 2,
             time_limit: None,
+            node_limit: None,
         },
         max_steps: 12,
         sweep_bounds: false,

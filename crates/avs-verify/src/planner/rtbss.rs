@@ -19,8 +19,10 @@
 //!   where the robot can stand and the detector sees the candidate; the `max_cells` with the most
 //!   information (`d²` of [`crate::sensor::LookModel::information`], independent model) are kept,
 //!   so the POMDP stays small enough to search.
-//! * **Depth**: fixed (a time budget would make runs depend on the machine); 3 by default —
-//!   depth 5 (the planned verifier's) is `(K + 3)^5 × bins^5` belief nodes without pruning.
+//! * **Depth**: the planned verifier's (5), within a budget of belief nodes per decision
+//!   (20 000 by default; `avs_pomdp::online`'s `node_limit`): the search deepens from 1 and keeps
+//!   the deepest depth it completes, so runs are the same on every machine (a time budget would
+//!   make them depend on it). Depth 5 in full is up to `(K + 3)^5 × bins^5` belief nodes.
 //! * **One candidate at a time**, the nearest: a joint POMDP over several candidates grows as
 //!   the product of their state spaces.
 
@@ -45,6 +47,10 @@ pub struct RtbssConfig {
     pub bins: usize,
     /// Search depth.
     pub depth: usize,
+    /// Belief nodes one decision may expand (a deterministic budget: the search deepens from 1
+    /// and keeps the deepest depth completed within it); `None` searches `depth` in full.
+    #[serde(default)]
+    pub node_limit: Option<usize>,
     /// Discount factor.
     pub discount: f64,
     /// Costs of right and wrong decisions, metres.
@@ -61,7 +67,8 @@ impl Default for RtbssConfig {
             cell: 2.5,
             max_cells: 10,
             bins: 4,
-            depth: 3,
+            depth: 5,
+            node_limit: Some(20_000),
             discount: 0.95,
             costs: DecisionCosts::default(),
             look_cost: 0.5,
@@ -139,6 +146,7 @@ pub fn plan(
         &OnlineOptions {
             depth: cfg.depth,
             time_limit: None,
+            node_limit: cfg.node_limit,
         },
     )
     .map_err(|e| VerifyError::Invalid {
