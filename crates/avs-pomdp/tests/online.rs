@@ -1,8 +1,8 @@
 //! RTBSS and the offline bounds against brute-force expectimax on small view-cone problems.
 
 use avs_pomdp::{
-    expectimax, rtbss, solve, DecisionRewards, OfflineOptions, OnlineOptions, ViewConePomdp,
-    ViewConeProblem,
+    expectimax, rtbss, solve, DecisionRewards, OfflineOptions, OfflineSolution, OnlineOptions,
+    ViewConePomdp, ViewConeProblem,
 };
 
 fn problem(prior: Vec<f64>, travel_scale: f64) -> ViewConeProblem {
@@ -92,19 +92,24 @@ fn online_and_offline_agree_with_expectimax_to_depth_4_on_three_cones() {
     check_agreement(&problem(vec![0.3, 0.3, 0.2], 0.5), 4, 0.1);
 }
 
-#[test]
-fn rtbss_prunes_nodes_yet_keeps_the_value() {
-    let p = problem(vec![0.3, 0.3, 0.2], 0.5);
-    let vc = ViewConePomdp::new(&p).unwrap();
-    let m = vc.pomdp();
+/// Three cones (priors 0.3, 0.3, 0.2), and their offline bounds to a gap of 0.1.
+fn three_cones_solved() -> (ViewConePomdp, OfflineSolution) {
+    let vc = ViewConePomdp::new(&problem(vec![0.3, 0.3, 0.2], 0.5)).unwrap();
     let sol = solve(
-        m,
+        vc.pomdp(),
         &OfflineOptions {
             target_gap: 0.1,
             ..Default::default()
         },
     )
     .unwrap();
+    (vc, sol)
+}
+
+#[test]
+fn rtbss_prunes_nodes_yet_keeps_the_value() {
+    let (vc, sol) = three_cones_solved();
+    let m = vc.pomdp();
     let on = rtbss(
         m,
         &sol.bounds,
@@ -123,17 +128,8 @@ fn rtbss_prunes_nodes_yet_keeps_the_value() {
 
 #[test]
 fn a_time_budgeted_search_still_returns_a_decision() {
-    let p = problem(vec![0.3, 0.3, 0.2], 0.5);
-    let vc = ViewConePomdp::new(&p).unwrap();
+    let (vc, sol) = three_cones_solved();
     let m = vc.pomdp();
-    let sol = solve(
-        m,
-        &OfflineOptions {
-            target_gap: 0.1,
-            ..Default::default()
-        },
-    )
-    .unwrap();
     let on = rtbss(
         m,
         &sol.bounds,
@@ -151,17 +147,8 @@ fn a_time_budgeted_search_still_returns_a_decision() {
 
 #[test]
 fn a_node_budget_keeps_the_deepest_depth_it_completes_and_its_exact_value() {
-    let p = problem(vec![0.3, 0.3, 0.2], 0.5);
-    let vc = ViewConePomdp::new(&p).unwrap();
+    let (vc, sol) = three_cones_solved();
     let m = vc.pomdp();
-    let sol = solve(
-        m,
-        &OfflineOptions {
-            target_gap: 0.1,
-            ..Default::default()
-        },
-    )
-    .unwrap();
     let b0 = m.initial_belief();
     let run = |depth: usize, node_limit: Option<usize>| {
         rtbss(
