@@ -201,6 +201,25 @@ impl Node {
     }
 }
 
+/// Before node `n` (in state `s`) is expanded: its plan when `s` is a goal, the search-limit
+/// error once the expansions (this one counted) pass the budget, else `None`.
+fn goal_or_limit(
+    task: &Task,
+    nodes: &[Node],
+    n: u32,
+    s: &[Val],
+    opts: &SearchOptions,
+    stats: &mut SearchStats,
+) -> Option<Result<(Option<Plan>, SearchStats), PlanError>> {
+    if task.is_goal(s) {
+        let steps = extract(nodes, n);
+        return Some(Ok((Some(make_plan(task, steps, opts.reward)), *stats)));
+    }
+    stats.expanded += 1;
+    (stats.expanded > opts.max_expansions)
+        .then_some(Err(PlanError::SearchLimit(opts.max_expansions)))
+}
+
 fn applicable<'a>(task: &'a Task, s: &[Val]) -> impl Iterator<Item = usize> + 'a {
     let s = s.to_vec();
     task.operators
@@ -418,13 +437,23 @@ impl<'t> AStar<'t> {
         } else {
             f64::NEG_INFINITY
         };
-        // One component of the heuristic: 0 on cost, 1 on −ln p; `None` at a relaxed dead end.
-        let mut eval = |s: &[Val], part: usize| -> Option<f64> {
+        // Compute one part of a state's heuristic (0 on cost, 1 on −ln p; ∞ at a relaxed dead
+        // end) unless it is known; whether it was computed now. A state counts as evaluated
+        // when its first part is computed.
+        let mut evaluate = |e: &mut Est, s: &[Val], part: usize, stats: &mut SearchStats| {
+            if e.exact[part] {
+                return false;
+            }
+            if !e.exact.iter().any(|&x| x) {
+                stats.evaluated += 1;
+            }
             let c = if part == 0 { c_cost } else { c_lp };
-            match opts.heuristic {
+            let h = match opts.heuristic {
                 Heuristic::HMax => relaxed.hmax(s, c, ws),
                 Heuristic::LmCut => relaxed.lmcut(s, c, ws),
-            }
+            };
+            e.set(part, h.unwrap_or(f64::INFINITY));
+            true
         };
         // The parts a state still needs, in the order they are computed: the −ln p part first,
         // which moves f the most where R is large (every assumption lowers p).
@@ -442,22 +471,12 @@ impl<'t> AStar<'t> {
             labels.push(Vec::new());
         }
         for &part in parts {
-            let e = &mut heur[sid as usize];
-            if e.exact[part] {
-                continue;
-            }
-            if !e.exact.iter().any(|&x| x) {
-                stats.evaluated += 1;
-            }
-            match eval(&task.init, part) {
-                Some(h) => e.set(part, h),
-                None => return Ok((None, stats)),
-            }
+            evaluate(&mut heur[sid as usize], &task.init, part, &mut stats);
         }
-        let h0 = heur[sid as usize].h;
-        if h0.0.is_infinite() || h0.1.is_infinite() {
+        if heur[sid as usize].dead() {
             return Ok((None, stats));
         }
+        let h0 = heur[sid as usize].h;
         labels[sid as usize].push(0);
         nodes.push(Node::root(sid));
         open.push(Reverse((Prio(f_of(0.0, 0.0, h0)), Prio(h0.0), seq, 0u32)));
@@ -477,18 +496,11 @@ impl<'t> AStar<'t> {
                 if e.dead() {
                     continue 'pop;
                 }
-                if e.exact[part] {
+                if !evaluate(e, &s, part, &mut stats) {
                     continue;
                 }
-                if !e.exact.iter().any(|&x| x) {
-                    stats.evaluated += 1;
-                }
-                match eval(&s, part) {
-                    Some(h) => e.set(part, h),
-                    None => {
-                        e.set(part, f64::INFINITY);
-                        continue 'pop;
-                    }
+                if e.dead() {
+                    continue 'pop;
                 }
                 let h = e.h;
                 let f = f_of(g, lp, h);
@@ -501,13 +513,8 @@ impl<'t> AStar<'t> {
             if heur[st as usize].dead() {
                 continue;
             }
-            if task.is_goal(&s) {
-                let steps = extract(&nodes, n);
-                return Ok((Some(make_plan(task, steps, opts.reward)), stats));
-            }
-            stats.expanded += 1;
-            if stats.expanded > opts.max_expansions {
-                return Err(PlanError::SearchLimit(opts.max_expansions));
+            if let Some(end) = goal_or_limit(task, &nodes, n, &s, opts, &mut stats) {
+                return end;
             }
             let ops: Vec<usize> = applicable(task, &s).collect();
             for op in ops {
@@ -634,13 +641,8 @@ fn gbfs(task: &Task, opts: &SearchOptions) -> Result<(Option<Plan>, SearchStats)
             nodes[n as usize].state,
         );
         reg.get(st, &mut s);
-        if task.is_goal(&s) {
-            let steps = extract(&nodes, n);
-            return Ok((Some(make_plan(task, steps, opts.reward)), stats));
-        }
-        stats.expanded += 1;
-        if stats.expanded > opts.max_expansions {
-            return Err(PlanError::SearchLimit(opts.max_expansions));
+        if let Some(end) = goal_or_limit(task, &nodes, n, &s, opts, &mut stats) {
+            return end;
         }
         let parent_pref = std::mem::take(&mut preferred_of[n as usize]);
         let ops: Vec<usize> = applicable(task, &s).collect();
