@@ -14,15 +14,18 @@ pub struct AgentConfig {
     /// Place map parameters (place spacing, door widths).
     pub places: PlaceMapParams,
     /// Continual planner settings (search, success threshold, assumption bound, and which
-    /// plan to start: `planner.objective`, the paper's fixed R by default, or the plan with
-    /// the most success per unit of cost, `avs_plan::continual::Objective::Ratio`).
+    /// plan to start: `planner.objective`, by default the plan with the most success per
+    /// unit of cost, `avs_plan::continual::Objective::Ratio`, or the paper's fixed R,
+    /// `Objective::Fixed`). With the rates of `unfound_landmarks`, the fixed R = 1000 makes a
+    /// 1 % gain in p worth 10 m and the robot wanders between rooms of similar promise.
     pub planner: ContinualOptions,
     /// Count the landmarks not found yet in a room's probability of holding the object, and
     /// all a room behind a placeholder is expected to hold (`002` §III-A's whole hierarchy;
-    /// `avs_concepts::ConceptualMap::set_unfound_landmarks`). Off by default: with it, and with
-    /// the ratio objective that it needs not to wander, the Fig. 3 runs improve but the fixed
-    /// verification rule accepts more look-alikes (BENCHMARKS.md, issue 17 session: the whole
-    /// hierarchy of a room).
+    /// `avs_concepts::ConceptualMap::set_unfound_landmarks`). On by default, with the ratio
+    /// objective that it needs not to wander (BENCHMARKS.md, issue 17 sessions: the whole
+    /// hierarchy of a room; the sequential verifier). It was off while the fixed `count`
+    /// verification rule accepted the look-alikes on the desks and counters it sends the
+    /// robot to first.
     pub unfound_landmarks: bool,
     /// View-cone POMDP session settings.
     pub session: SessionOptions,
@@ -145,9 +148,10 @@ impl Default for AgentConfig {
                 // to a kitchen) × P(counter) × P(object on it) × detection²). Give up only when
                 // the best plan is well below that.
                 o.min_success = 0.002;
+                o.objective = avs_plan::continual::Objective::Ratio;
                 o
             },
-            unfound_landmarks: false,
+            unfound_landmarks: true,
             session: {
                 // A smaller offline budget than the solver's default: a session over 24 cones
                 // has 625 product states, and the online look-ahead refines the bounds anyway.
@@ -228,7 +232,7 @@ impl AgentConfig {
         let finite_pos = |x: f64| x.is_finite() && x > 0.0;
         let finite_nonneg = |x: f64| x.is_finite() && x >= 0.0;
         let prob = |x: f64| (0.0..=1.0).contains(&x);
-        let checks: [(&'static str, f64, bool, &'static str); 32] = [
+        let checks: [(&'static str, f64, bool, &'static str); 33] = [
             (
                 "min_confidence",
                 self.min_confidence,
@@ -380,6 +384,12 @@ impl AgentConfig {
                 "at least 1 and at most tuning.verify_looks",
             ),
             (
+                "tuning.sequential_max_looks",
+                t.sequential_max_looks as f64,
+                (1..=64).contains(&t.sequential_max_looks),
+                "at least 1 and at most 64",
+            ),
+            (
                 "tuning.verify_bearings",
                 t.verify_bearings as f64,
                 t.verify_bearings >= 1,
@@ -514,6 +524,12 @@ pub struct Tuning {
     pub verify_looks: usize,
     /// Detections needed to verify a sighting (within `verify_looks`).
     pub verify_hits: usize,
+    /// Looks at most of the `sequential` verifier (the default one): it stops earlier once it
+    /// is sure (about 99.8 % either way at the default prices), and decides on the belief it
+    /// has when they are spent. 8: from a 1 % prior the knowledge's detector (hits 16 times
+    /// likelier on an object, misses 4.75 times likelier on none) needs four or five hits;
+    /// eight looks leave room for two or three misses on a real object.
+    pub sequential_max_looks: usize,
     /// Sightings of a class where verification failed this many times are ignored from then
     /// on (a look-alike). One failure is not enough: a real object fails a verification one
     /// time in ten, and ignoring it for good lost targets for good (see the crate docs,
@@ -576,6 +592,7 @@ impl Default for Tuning {
             confirm_radius: 0.6,
             verify_looks: 3,
             verify_hits: 2,
+            sequential_max_looks: 8,
             rejections_to_ignore: 2,
             verify_bearings: 16,
             max_dt_steps: 60,

@@ -59,11 +59,7 @@ impl Agent {
         // whose model does not build.
         ConceptualMap::new("knowledge", &knowledge)?;
         for c in &knowledge.object_classes {
-            if let Some(v) = c
-                .verifier
-                .as_ref()
-                .filter(|v| v.strategy != avs_format::verifier::VerifierStrategy::Count)
-            {
+            if let Some(v) = c.verifier.as_ref().filter(|v| v.strategy.uses_model()) {
                 crate::skills::verify::check_verifier(&knowledge, &c.name, v)?;
             }
         }

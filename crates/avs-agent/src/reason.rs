@@ -356,7 +356,7 @@ impl GiveUpReason {
                 .rejected
                 .iter()
                 .skip(rejected_before)
-                .filter(|(c, _)| c == class)
+                .filter(|r| r.class == class)
                 .count(),
             class: class.to_string(),
         };

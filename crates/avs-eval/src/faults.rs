@@ -328,8 +328,8 @@ pub fn fault_matrix(
         lookalikes_per_room: avs_sim::generate::DEFAULT_LOOKALIKES_PER_ROOM,
         detector: Default::default(),
         zoom_pipeline: false,
-        unfound_landmarks: false,
-        objective: Default::default(),
+        unfound_landmarks: AgentConfig::default().unfound_landmarks,
+        objective: AgentConfig::default().planner.objective,
     };
     let floors: Vec<(u64, String, World)> = (0..p.floors as u64)
         .into_par_iter()

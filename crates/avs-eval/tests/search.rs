@@ -518,6 +518,12 @@ fn a_cerealbox_inside_a_kitchen_cupboard_is_found_by_a_search_in_the_cupboard() 
     box1.pose.x = cx + 0.2;
     box1.pose.y = cy;
     box1.pose.z = 0.9;
+    // The robot starts in the kitchen, in front of the cupboard. (From the corridor, a
+    // search of the whole kitchen, which counts what the cupboard holds, is the better plan
+    // per metre, and it finds the box through the open shelf.)
+    env.robot.start.x = 6.0;
+    env.robot.start.y = 5.5;
+    env.robot.start.yaw_deg = 90.0;
     let world = World::new(env, path.parent().unwrap()).unwrap();
     let r = search(&world, 1, FailureRates::default(), "cerealbox");
     let found = r.found.as_ref().expect("the cerealbox is found");

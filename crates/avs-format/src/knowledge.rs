@@ -333,21 +333,21 @@ pub fn validate(file: &str, k: &Knowledge) -> Vec<Diagnostic> {
                     "remove the verifier block, or drop `landmark: true`".into(),
                 );
             }
-            match (&v.model, v.strategy) {
-                (None, VerifierStrategy::Count) => {}
-                (None, s) => err(
+            match (&v.model, v.strategy.uses_model()) {
+                (None, false) => {}
+                (None, true) => err(
                     format!("{vp}.model"),
-                    format!("the `{}` verifier needs a sensor model", s.name()),
-                    "name one of `sensor_models` (e.g. trained by `avs verify train`), or use strategy `count`".into(),
+                    format!("the `{}` verifier needs a sensor model", v.strategy.name()),
+                    "name one of `sensor_models` (e.g. trained by `avs verify train`), or use strategy `sequential` or `count`".into(),
                 ),
                 (Some(m), _) if k.sensor_model(m).is_none() => err(
                     format!("{vp}.model"),
                     format!("no sensor model named `{m}`"),
                     "name one of `sensor_models`".into(),
                 ),
-                (Some(_), VerifierStrategy::Count) => err(
+                (Some(_), false) => err(
                     format!("{vp}.model"),
-                    "the `count` rule uses no sensor model".into(),
+                    format!("the `{}` verifier uses no sensor model", v.strategy.name()),
                     "remove `model`, or choose a planned, greedy or rtbss verifier".into(),
                 ),
                 _ => {}
@@ -761,6 +761,8 @@ landmark_rates:
         assert_eq!(check("k.yaml", &text), vec![]);
         let text = with_verifier("{ strategy: count }");
         assert_eq!(check("k.yaml", &text), vec![]);
+        let text = with_verifier("{ strategy: sequential }");
+        assert_eq!(check("k.yaml", &text), vec![]);
     }
 
     #[test]
@@ -776,6 +778,15 @@ landmark_rates:
         );
         assert_eq!(
             path("{ strategy: planned }"),
+            "object_classes[1].verifier.model"
+        );
+        // The closer-look rules reason with no trained model.
+        assert_eq!(
+            path("{ strategy: sequential, model: generic }"),
+            "object_classes[1].verifier.model"
+        );
+        assert_eq!(
+            path("{ strategy: count, model: generic }"),
             "object_classes[1].verifier.model"
         );
         assert_eq!(

@@ -43,6 +43,12 @@ pub enum VerifierStrategy {
     Rtbss,
     /// The fixed rule: a few closer looks, accept on enough detections near the sighting.
     Count,
+    /// Closer looks until the Bayes-optimal policy decides: the knowledge's binary detector
+    /// (`sensor.false_negative`, `sensor.false_positive`, looks independent given the truth),
+    /// the candidate's prior, and a wrong decision priced as a failed search
+    /// (`avs_verify::sequential`). Uses no sensor model. The default for a class without a
+    /// verifier block.
+    Sequential,
 }
 
 impl VerifierStrategy {
@@ -54,7 +60,14 @@ impl VerifierStrategy {
             VerifierStrategy::Greedy => "greedy",
             VerifierStrategy::Rtbss => "rtbss",
             VerifierStrategy::Count => "count",
+            VerifierStrategy::Sequential => "sequential",
         }
+    }
+
+    /// Whether the strategy reasons with a trained sensor model (`model` in the block): the
+    /// planned, greedy and RTBSS verifiers do, `count` and `sequential` do not.
+    pub fn uses_model(self) -> bool {
+        !matches!(self, VerifierStrategy::Count | VerifierStrategy::Sequential)
     }
 }
 

@@ -16,6 +16,8 @@
 //!   without enumerating their scores (eq. 25–32) and the expected decision cost from it;
 //! * [`field`] — perception fields (eq. 7–8) over a vantage grid, by PBD or by enumeration;
 //! * [`planner`] — the planned verifier (Fig. 7) and the GREEDY(τ) and RTBSS baselines;
+//! * [`sequential`] — verification with a binary detector whose looks are independent: the
+//!   exact Bayes-optimal look / accept / reject policy over a budget of looks;
 //! * [`train`] — fitting a sensor model to labelled looks (§4.2.3).
 //!
 //! ## Example
@@ -67,6 +69,7 @@ pub mod gp;
 pub mod pbd;
 pub mod planner;
 pub mod sensor;
+pub mod sequential;
 pub mod train;
 pub mod vantage;
 

@@ -150,10 +150,10 @@ pub(crate) struct Memory {
     pub spurious_cache: Memo<(OccupancyGrid, Vec<Segment>), Vec<bool>>,
     /// The plan place the robot last moved to, with its position.
     pub last_target: Option<(Target, [f64; 2])>,
-    /// Sightings a closer look did not confirm: (class, position), one entry per failed
-    /// verification. Sightings of the class where `rejections_to_ignore` verifications
-    /// failed are taken for a look-alike and ignored.
-    pub rejected: Vec<(String, [f64; 2])>,
+    /// Sightings a closer look did not confirm, one entry per failed verification.
+    /// Sightings of the class where `rejections_to_ignore` verifications failed are taken
+    /// for a look-alike and ignored.
+    pub rejected: Vec<Rejection>,
     /// Detections of classes a later goal of a [`Goal::find_all`](crate::Goal::find_all)
     /// seeks, made by the looks of an earlier goal's search and not verified yet: one per
     /// class and spot (the most confident; [`Memory::note_sightings`]). The search for the
@@ -219,17 +219,30 @@ pub(crate) fn standable(
 /// Whether a sighting of `class` at `pos` is a known look-alike: verification failed at least
 /// `times` times within `radius` of it.
 pub(crate) fn is_look_alike(
-    rejected: &[(String, [f64; 2])],
+    rejected: &[Rejection],
     class: &str,
     pos: [f64; 2],
-    radius: f64,
     times: usize,
 ) -> bool {
     rejected
         .iter()
-        .filter(|(c, p)| c == class && dist(*p, pos) < radius)
+        .filter(|r| r.class == class && dist(r.at, pos) < r.radius)
         .count()
         >= times
+}
+
+/// A sighting a verification did not confirm.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rejection {
+    /// Its class.
+    pub class: String,
+    /// Where it was sighted.
+    pub at: [f64; 2],
+    /// How far around it the verification's looks would have seen an object of the class,
+    /// metres: a later sighting this close is taken for the same thing. The closer looks'
+    /// image reaches only so far beside the sighting (half its width there); an object
+    /// farther off was not looked at, whatever the radius a detection confirms within.
+    pub radius: f64,
 }
 
 impl Memory {
@@ -529,7 +542,6 @@ impl Memory {
                 &self.rejected,
                 &d.class,
                 [d.pose.x, d.pose.y],
-                t.confirm_radius,
                 t.rejections_to_ignore,
             ))
     }
@@ -746,14 +758,24 @@ mod tests {
     }
 
     #[test]
-    fn a_sighting_is_ignored_only_where_verification_failed_twice() {
-        let mut rejected = vec![("cerealbox".to_string(), [1.0, 1.0])];
+    fn a_sighting_is_ignored_only_where_verification_failed_twice_within_what_it_saw() {
+        let at = |x: f64, y: f64, radius: f64| Rejection {
+            class: "cerealbox".to_string(),
+            at: [x, y],
+            radius,
+        };
+        let mut rejected = vec![at(1.0, 1.0, 0.6)];
         // One failed verification: a real object fails one in ten, so look again.
-        assert!(!is_look_alike(&rejected, "cerealbox", [1.1, 1.0], 0.6, 2));
-        rejected.push(("cerealbox".to_string(), [1.2, 1.1]));
-        assert!(is_look_alike(&rejected, "cerealbox", [1.1, 1.0], 0.6, 2));
+        assert!(!is_look_alike(&rejected, "cerealbox", [1.1, 1.0], 2));
+        rejected.push(at(1.2, 1.1, 0.6));
+        assert!(is_look_alike(&rejected, "cerealbox", [1.1, 1.0], 2));
         // Other classes and other places are not affected.
-        assert!(!is_look_alike(&rejected, "mug", [1.1, 1.0], 0.6, 2));
-        assert!(!is_look_alike(&rejected, "cerealbox", [2.0, 1.0], 0.6, 2));
+        assert!(!is_look_alike(&rejected, "mug", [1.1, 1.0], 2));
+        assert!(!is_look_alike(&rejected, "cerealbox", [2.0, 1.0], 2));
+        // A sighting beside the spots, beyond what their looks saw (0.25 m around them), is
+        // something else: an object next to a rejected look-alike is still looked at.
+        let narrow = vec![at(1.0, 1.0, 0.25), at(1.05, 1.0, 0.25)];
+        assert!(is_look_alike(&narrow, "cerealbox", [1.1, 1.0], 2));
+        assert!(!is_look_alike(&narrow, "cerealbox", [1.0, 1.4], 2));
     }
 }

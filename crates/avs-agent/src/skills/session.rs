@@ -380,7 +380,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
 /// A look's miss and false-alarm rates for `label`: measured
 /// ([`crate::AgentConfig::measured_sensing`]) when the configuration has them, the knowledge's
 /// `sensor` otherwise.
-fn sensing(cx: Ctx, label: &str) -> (f64, f64) {
+pub(crate) fn sensing(cx: Ctx, label: &str) -> (f64, f64) {
     cx.config.sensing(label).map_or(
         (
             cx.knowledge.sensor.false_negative,

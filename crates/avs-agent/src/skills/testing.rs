@@ -86,7 +86,7 @@ pub fn knowledge_verified_by(
         .expect("the class is in the shipped knowledge");
     c.verifier = Some(VerifierSpec {
         strategy,
-        model: Some("hand".into()),
+        model: strategy.uses_model().then(|| "hand".into()),
         threshold: None,
     });
     k
@@ -166,7 +166,11 @@ pub fn verify_cerealbox(k: &Knowledge, prepare: impl FnOnce(&mut ScriptedRobot))
     Verified {
         confirmed,
         events: run.events.clone(),
-        rejected: mem.rejected.clone(),
+        rejected: mem
+            .rejected
+            .iter()
+            .map(|r| (r.class.clone(), r.at))
+            .collect(),
         metrics: run.metrics.clone(),
         robot,
     }

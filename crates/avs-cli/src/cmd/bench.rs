@@ -61,12 +61,13 @@ pub struct Args {
     /// instead of the one-shot detector.
     #[arg(long)]
     pub zoom: bool,
-    /// Rooms count the landmarks not found yet (`002` §III-A's whole hierarchy; off by
-    /// default, see BENCHMARKS.md).
-    #[arg(long)]
+    /// Rooms count the landmarks not found yet (`002` §III-A's whole hierarchy; on by
+    /// default, `--unfound-landmarks false` turns it off; see BENCHMARKS.md).
+    #[arg(long, value_name = "BOOL", num_args = 0..=1, default_value_t = true,
+          default_missing_value = "true", action = clap::ArgAction::Set)]
     pub unfound_landmarks: bool,
-    /// Which plan the planner starts: `fixed` (the paper's R, the default) or `ratio` (the
-    /// most success probability per unit of cost).
+    /// Which plan the planner starts: `fixed` (the paper's R) or `ratio` (the most success
+    /// probability per unit of cost, the default).
     #[arg(long, value_enum, default_value_t = ObjectiveArg::default())]
     pub objective: ObjectiveArg,
     /// Search this class on every floor (default: drawn per floor).

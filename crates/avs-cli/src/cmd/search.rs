@@ -94,11 +94,12 @@ pub struct Args {
     pub detector: DetectorArg,
     /// Rooms count the landmarks not found yet in their chance of holding the object, and a
     /// room behind a placeholder all it is expected to hold (`002` §III-A's whole hierarchy;
-    /// off by default, see BENCHMARKS.md).
-    #[arg(long)]
+    /// on by default, `--unfound-landmarks false` turns it off; see BENCHMARKS.md).
+    #[arg(long, value_name = "BOOL", num_args = 0..=1, default_value_t = true,
+          default_missing_value = "true", action = clap::ArgAction::Set)]
     pub unfound_landmarks: bool,
-    /// Which plan the planner starts: `fixed` (the paper's R, the default) or `ratio` (the
-    /// most success probability per unit of cost).
+    /// Which plan the planner starts: `fixed` (the paper's R) or `ratio` (the most success
+    /// probability per unit of cost, the default).
     #[arg(long, value_enum, default_value_t = ObjectiveArg::default())]
     pub objective: ObjectiveArg,
     /// Looks run the zoom pipeline (attention, zoom windows, three-step search, recognition)
@@ -130,10 +131,11 @@ impl From<DetectorArg> for avs_sim::sim_robot::DetectorKind {
 /// Which plan the planner starts (`--objective`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum ObjectiveArg {
-    /// The best for the paper's fixed reward R (the default).
-    #[default]
+    /// The best for the paper's fixed reward R.
     Fixed,
-    /// The one with the most success probability per unit of cost (Dinkelbach's iteration).
+    /// The one with the most success probability per unit of cost (Dinkelbach's iteration;
+    /// the default).
+    #[default]
     Ratio,
 }
 

@@ -5,8 +5,10 @@
 //! * `planned`, `planned-disc`, `greedy`, `rtbss` — the detection-verification planners of
 //!   Velez et al. 2012 (`avs-verify`), reasoning over the detector's scores at the candidate
 //!   with a trained sensor model ([`model`]);
-//! * `count` (also when a class has no verifier block) — the fixed rule: a few closer looks,
-//!   accepted on enough detections ([`count`]).
+//! * `sequential` (also when a class has no verifier block) — closer looks until the
+//!   Bayes-optimal policy of the knowledge's binary detector decides, from the candidate's
+//!   prior, with a wrong decision priced as a failed search ([`sequential`]);
+//! * `count` — the fixed rule: a few closer looks, accepted on enough detections ([`count`]).
 //!
 //! Each candidate is a `candidate created` trace event (its prior, the verifier) and ends in a
 //! `verification decision` event (accepted or not, the belief, the looks, the detour in
@@ -27,13 +29,15 @@
 //! The prior is kept inside [`PRIOR_FLOOR`, 1 − `PRIOR_FLOOR`]: a map that has thinned a room
 //! to near zero must still let enough evidence accept a target there.
 
+mod closer;
 mod count;
 mod model;
+mod sequential;
 
 pub(crate) use model::Built;
 
 use crate::body::Body;
-use crate::memory::Memory;
+use crate::memory::{Memory, Rejection};
 use crate::run::Run;
 use crate::skills::Ctx;
 use crate::trace::Event;
@@ -56,6 +60,9 @@ pub(crate) struct Verdict {
     pub looks: usize,
     /// Why it was decided so, for the trace.
     pub reason: String,
+    /// How far beside the sighting the verification's looks reached, metres, when less than
+    /// the radius a detection confirms within ([`crate::memory::Rejection::radius`]).
+    pub reach: Option<f64>,
 }
 
 impl Verdict {
@@ -66,6 +73,7 @@ impl Verdict {
             belief: None,
             looks: 0,
             reason: reason.to_string(),
+            reach: None,
         }
     }
 }
@@ -83,7 +91,7 @@ pub(crate) fn verify<R: Robot + ?Sized>(
     let spec = cx.knowledge.class(label).and_then(|c| c.verifier.clone());
     let strategy = spec
         .as_ref()
-        .map_or(VerifierStrategy::Count, |s| s.strategy);
+        .map_or(VerifierStrategy::Sequential, |s| s.strategy);
     let at = [d.pose.x, d.pose.y];
     let prior = candidate_prior(mem, label, at);
     run.metrics.candidates += 1;
@@ -95,7 +103,7 @@ pub(crate) fn verify<R: Robot + ?Sized>(
     });
     let start = body.odometry();
     let verdict = match spec {
-        Some(s) if s.strategy != VerifierStrategy::Count => {
+        Some(s) if s.strategy.uses_model() => {
             let seed = cx
                 .config
                 .verifier_seed
@@ -105,20 +113,28 @@ pub(crate) fn verify<R: Robot + ?Sized>(
                 model::Outcome::Decided(v) => v,
                 model::Outcome::NoScores(why) => {
                     run.observe(format!(
-                        "{why}: the {label} is verified by counting detections instead"
+                        "{why}: the {label} is verified by its closer looks' detections instead"
                     ));
-                    count::count_rule(cx, mem, body, run, label, d)?
+                    sequential::sequential(cx, mem, body, run, label, d, prior)?
                 }
             }
         }
-        _ => count::count_rule(cx, mem, body, run, label, d)?,
+        Some(s) if s.strategy == VerifierStrategy::Count => {
+            count::count_rule(cx, mem, body, run, label, d)?
+        }
+        _ => sequential::sequential(cx, mem, body, run, label, d, prior)?,
     };
     let accepted = verdict.confirmed.is_some();
     if accepted {
         run.metrics.candidates_accepted += 1;
     } else {
         run.metrics.candidates_rejected += 1;
-        mem.rejected.push((label.to_string(), at));
+        let confirm = cx.tuning().confirm_radius;
+        mem.rejected.push(Rejection {
+            class: label.to_string(),
+            at,
+            radius: verdict.reach.map_or(confirm, |r| r.min(confirm)),
+        });
     }
     run.metrics.verification_looks += verdict.looks;
     run.emit(Event::VerificationDecision {

@@ -127,8 +127,11 @@ pub(crate) fn build(
     }
     let mut scaled = trained.scaled(range / trained.max_range);
     let verifier = match spec.strategy {
-        VerifierStrategy::Count => {
-            return Err(bad("the `count` rule is not a model verifier".into()));
+        VerifierStrategy::Count | VerifierStrategy::Sequential => {
+            return Err(bad(format!(
+                "the `{}` verifier uses no sensor model",
+                spec.strategy.name()
+            )));
         }
         VerifierStrategy::Planned => Verifier::Planned(PlannedConfig {
             fov,
@@ -356,6 +359,7 @@ pub(super) fn verify_by_model<R: Robot + ?Sized>(
         belief: Some(belief),
         looks,
         reason,
+        reach: None,
     }))
 }
 
@@ -447,16 +451,20 @@ mod tests {
     }
 
     #[test]
-    fn a_robot_whose_detector_gives_no_scores_is_verified_by_counting() {
+    fn a_robot_whose_detector_gives_no_scores_is_verified_by_its_detections() {
         let o = verify_with(VerifierStrategy::Planned, |r| {
             place_box(r);
             *r = r.clone().without_scores();
         });
         assert!(o.confirmed.is_some());
-        assert!(o.events.iter().any(|e| matches!(e,
-            Event::Observed { what } if what.contains("verified by counting"))));
-        let (accepted, belief, _, _) = decision(&o);
-        assert!(accepted && belief.is_none());
+        assert!(
+            o.events.iter().any(|e| matches!(e,
+            Event::Observed { what } if what.contains("verified by its closer looks' detections")))
+        );
+        // Decided by the sequential rule over detections: its belief, past the price of a
+        // wrong report.
+        let (accepted, belief, _, reason) = decision(&o);
+        assert!(accepted && belief.unwrap() > 0.99, "{reason}");
     }
 
     #[test]

@@ -1,0 +1,205 @@
+//! Closer looks at a sighting, shared by the verifiers of a binary detector (`count`,
+//! `sequential`): where to stand ([`approach`]) and one look centred on the sighting
+//! ([`Closer::look`]).
+
+use crate::body::Body;
+use crate::memory::{path_len_on, Memory};
+use crate::run::Run;
+use crate::skills::Ctx;
+use crate::trace::{Event, View};
+use crate::AgentError;
+use avs_format::knowledge::ObjectClass;
+use avs_map::grid::Cell;
+use avs_robot::{Detection, Robot, ViewCone};
+use avs_view::{sight_clear, SightLine};
+
+/// A sighting the robot has walked up to, ready for closer looks.
+pub(crate) struct Closer<'a> {
+    class: ObjectClass,
+    label: &'a str,
+    sighting: &'a Detection,
+    /// The narrowest reach of the looks so far beside the sighting, metres (half the image's
+    /// width at the sighting's distance); infinite before the first look.
+    reach: std::cell::Cell<f64>,
+}
+
+/// Walk to where the sighting `d` of class `label` is best looked at again: the reachable
+/// point nearest the robot at the middle of the class's recognition range (else at its far
+/// end, else halfway to the detection range's far end), with a clear line of sight, no
+/// closer than the camera's tilt allows. `None` when the class is not in the knowledge file.
+/// A failed walk is observed in the trace and the looks are taken from where the robot stands.
+pub(crate) fn approach<'a, R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+    label: &'a str,
+    d: &'a Detection,
+) -> Result<Option<Closer<'a>>, AgentError> {
+    let t = cx.tuning();
+    let Some(class) = cx.knowledge.class(label).cloned() else {
+        return Ok(None);
+    };
+    let target = [d.pose.x, d.pose.y];
+    let here = body.pose();
+    let cam = body.camera();
+    // Far enough that the camera can tilt onto the sighting: a small object on the floor,
+    // 1.2 m below the camera, is out of view from closer than 1.2 m with a 45° tilt limit.
+    let dz = d.pose.z - cam.height;
+    let tilt_limit = if dz < 0.0 {
+        -cam.tilt_limits[0]
+    } else {
+        cam.tilt_limits[1]
+    }
+    .min(t.verify_max_tilt);
+    let min_reach = if tilt_limit > 0.0 {
+        dz.abs() / tilt_limit.tan()
+    } else {
+        f64::INFINITY
+    };
+    let surfaces = mem.surfaces(cx.knowledge);
+    let slack = mem.footprint_slack(cx.knowledge, label).min(t.los_slack);
+    let to = [target[0], target[1], d.pose.z];
+    let stand = mem.with_trav(false, |trav| {
+        let grid = &mem.grid;
+        let line = SightLine {
+            grid,
+            surfaces: &surfaces,
+            slack,
+            z_tolerance: t.surface_z_tolerance,
+            unknown_blocks: false,
+        };
+        let [lo, hi] = class.recognition_range;
+        let mut best: Option<([f64; 2], f64)> = None;
+        for r in [0.5 * (lo + hi), hi, 0.5 * (hi + class.detection_range[1])] {
+            let r = r.max(min_reach);
+            for k in 0..t.verify_bearings {
+                let a = std::f64::consts::TAU * k as f64 / t.verify_bearings as f64;
+                let p = [target[0] + r * a.cos(), target[1] + r * a.sin()];
+                let (c, rw) = grid.world_to_cell(p[0], p[1]);
+                if grid.get_i(c, rw) != Cell::Free || !trav.ok(c, rw) {
+                    continue;
+                }
+                if !sight_clear(&line, p, to) {
+                    continue;
+                }
+                let Some(l) = path_len_on(trav, [here.x, here.y], p, f64::INFINITY) else {
+                    continue;
+                };
+                if best.is_none_or(|(_, b)| l < b) {
+                    best = Some((p, l));
+                }
+            }
+            if best.is_some() {
+                break;
+            }
+        }
+        best.map(|(p, _)| p)
+    });
+    if let Some(p) = stand {
+        if let Err(e) = body.go_to(mem, p)? {
+            run.observe(format!("on the way to verify the {label}: {e}"));
+        }
+    }
+    Ok(Some(Closer {
+        class,
+        label,
+        sighting: d,
+        reach: std::cell::Cell::new(f64::INFINITY),
+    }))
+}
+
+impl Closer<'_> {
+    /// One look from where the robot stands, centred on the sighting and zoomed so that it
+    /// lies in the middle of the recognition range (Sjöö et al., §3.4: the distance interval
+    /// scales with the zoom); with measured sensing (the zoom pipeline's), through the
+    /// measured level that reaches it best — a zoomed look of the pipeline does not reach the
+    /// zoom times its unzoomed range. The detection of the class within `confirm_radius` of
+    /// the sighting with the highest confidence (at least `confirm_min_confidence`), if any;
+    /// the look is a `VERIFY` trace line. With `recognised_only`, a detection counts only
+    /// when its estimated distance from the camera lies in the class's recognition range
+    /// scaled by the look's zoom: a detection beyond it is the detector's guess at something
+    /// it cannot recognise there (a look-alike a little farther than the sighting fires far
+    /// more often than one inside the range), not a recognition.
+    pub fn look<R: Robot + ?Sized>(
+        &self,
+        cx: Ctx,
+        body: &mut Body<R>,
+        run: &mut Run,
+        recognised_only: bool,
+    ) -> Option<Detection> {
+        let t = cx.tuning();
+        let (label, d) = (self.label, self.sighting);
+        let target = [d.pose.x, d.pose.y];
+        let cam = body.camera();
+        let pose = body.pose();
+        let eye = [pose.x, pose.y, cam.height];
+        let (dx, dy) = (target[0] - pose.x, target[1] - pose.y);
+        let dz = d.pose.z - cam.height;
+        let (pan, tilt) = cam.aim(pose, d.pose);
+        let [lo, hi] = self.class.recognition_range;
+        let mid = 0.5 * (lo + hi);
+        let away = dx.hypot(dy).hypot(dz);
+        let zoom = cx
+            .config
+            .sensing(label)
+            .and_then(|m| m.zoom_at(away))
+            .unwrap_or(away / mid.max(1e-3))
+            .clamp(1.0, cam.max_zoom.max(1.0));
+        let seen = body
+            .look(
+                &ViewCone::new(pose, pan, tilt, zoom),
+                std::slice::from_ref(&label.to_string()),
+            )
+            .ok()
+            .and_then(|r| {
+                r.detections
+                    .into_iter()
+                    .filter(|e| {
+                        e.class == label
+                            && e.confidence >= cx.config.confirm_min_confidence
+                            && e.pose.planar_distance(target[0], target[1]) <= t.confirm_radius
+                            && (!recognised_only || {
+                                let r = (e.pose.x - eye[0])
+                                    .hypot(e.pose.y - eye[1])
+                                    .hypot(e.pose.z - eye[2]);
+                                (lo * zoom..=hi * zoom).contains(&r)
+                            })
+                    })
+                    .max_by(|a, b| a.confidence.total_cmp(&b.confidence))
+            });
+        run.emit(Event::DtAction {
+            action: format!(
+                "VERIFY {label} at ({:.2}, {:.2}) from ({:.2}, {:.2})",
+                target[0], target[1], pose.x, pose.y
+            ),
+            detected: Some(seen.is_some()),
+            view: Some(View {
+                x: pose.x,
+                y: pose.y,
+                pan_deg: pan.to_degrees(),
+                tilt_deg: tilt.to_degrees(),
+                zoom,
+            }),
+            target: Some(target),
+        });
+        run.zoomed(body.take_zoom_images());
+        let half_width = away * (0.5 * cam.hfov / zoom).tan();
+        self.reach.set(self.reach.get().min(half_width));
+        seen
+    }
+
+    /// How far beside the sighting every look so far reached, metres (`None` before the
+    /// first look): a rejection covers no more than this ([`crate::memory::Rejection`]).
+    pub fn reach(&self) -> Option<f64> {
+        Some(self.reach.get()).filter(|r| r.is_finite())
+    }
+}
+
+/// Keep the more confident of the detection so far and a new one (the pose a verifier reports
+/// is the best closer look's).
+pub(crate) fn keep_best(best: &mut Option<Detection>, e: Detection) {
+    if best.as_ref().is_none_or(|c| c.confidence < e.confidence) {
+        *best = Some(e);
+    }
+}

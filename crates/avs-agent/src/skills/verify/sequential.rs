@@ -1,0 +1,245 @@
+//! The `sequential` verifier: closer looks at a sighting until the Bayes-optimal policy of a
+//! binary detector decides (`avs_verify::sequential`).
+//!
+//! * **The detector.** A look detects the class within `confirm_radius` of the sighting or
+//!   not, independently given the truth, with `P(hit | object) = 1 − FN` and
+//!   `P(hit | none) = FP`: the knowledge's `sensor` (the view-cone POMDP's observation model,
+//!   `002` §IV), or the measured rates of the class when the configuration has them
+//!   ([`crate::AgentConfig::measured_sensing`]). Each rate is kept inside [`RATE_FLOOR`,
+//!   1 − `RATE_FLOOR`]: a false-alarm rate measured as 0 (none in a few dozen looks) is not a
+//!   detector whose one hit proves the object.
+//! * **What counts as a hit**: a detection of the class within `confirm_radius` of the
+//!   sighting whose estimated distance lies in the class's recognition range (scaled by the
+//!   look's zoom), where the detector recognises rather than guesses; the looks are centred
+//!   on the sighting from inside that range ([`super::closer`]).
+//! * **The prior** is the candidate's ([`super`] module docs); the sighting that made the
+//!   candidate is not counted again (it is why there is a candidate at all).
+//! * **The prices.** Both wrong decisions end the search without its target: a wrong report
+//!   fails the goal, and a rejected target is remembered as a look-alike and not searched for
+//!   there again. Each costs the planner's price of failure, its reward R
+//!   ([`avs_plan::SearchOptions::reward`], in metres of travel as the plans' costs are); a look
+//!   costs what processing a view cone costs in metres (`process_cost / travel_cost_per_m`).
+//!   With R = 1000 and 2 m per look, the policy looks until it is about 99.8 % sure either
+//!   way, or its budget ([`crate::config::Tuning::sequential_max_looks`]) is spent, and then
+//!   decides on the belief it has.
+//! * **Where it is wrong.** Looks from one standpoint are independent only for a detector
+//!   whose errors are fresh draws each look (the simulator's default). A detector whose errors
+//!   follow the vantage point (`--detector correlated`) needs the planned verifiers.
+
+use super::closer::{approach, keep_best};
+use super::Verdict;
+use crate::body::Body;
+use crate::memory::Memory;
+use crate::run::Run;
+use crate::skills::Ctx;
+use crate::AgentError;
+use avs_robot::{Detection, Robot};
+use avs_verify::sequential::{decide, BinaryLooks, Decision, StopCosts};
+
+/// A look's hit rates are kept at least this far from 0 and 1.
+pub(crate) const RATE_FLOOR: f64 = 1e-3;
+
+/// The detector model and the prices of [`sequential`] for class `label` (module docs).
+pub(crate) fn model(cx: Ctx, label: &str) -> (BinaryLooks, StopCosts) {
+    let (miss, false_alarm) = crate::skills::session::sensing(cx, label);
+    let clamp = |p: f64| p.clamp(RATE_FLOOR, 1.0 - RATE_FLOOR);
+    let looks = BinaryLooks {
+        hit_if_object: clamp(1.0 - miss),
+        hit_if_not: clamp(false_alarm),
+    };
+    let failure = cx.config.planner.search.reward;
+    let costs = StopCosts {
+        look: cx.config.process_cost / cx.config.travel_cost_per_m,
+        wrong_accept: failure,
+        wrong_reject: failure,
+    };
+    (looks, costs)
+}
+
+/// Verify the sighting `d` of class `label` from `prior` (module docs).
+pub(crate) fn sequential<R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+    label: &str,
+    d: &Detection,
+    prior: f64,
+) -> Result<Verdict, AgentError> {
+    let (model, costs) = model(cx, label);
+    let budget = cx.tuning().sequential_max_looks;
+    let say = |hits: usize, looks: usize, b: f64| {
+        format!("{hits} of {looks} closer looks detected it; belief {b:.3}")
+    };
+    if !model.is_valid() {
+        // A detector that fires as often on nothing as on the object proves nothing.
+        let accept = decide(prior, 0, model, costs) == Decision::Accept;
+        let reason = "the detector's hit rates carry no evidence; decided on the prior";
+        return Ok(Verdict {
+            confirmed: accept.then(|| d.clone()),
+            belief: Some(prior),
+            looks: 0,
+            reason: reason.into(),
+            reach: None,
+        });
+    }
+    // Nothing to walk for when the prior alone decides.
+    if decide(prior, budget, model, costs) != Decision::Look {
+        let accept = decide(prior, budget, model, costs) == Decision::Accept;
+        return Ok(Verdict {
+            confirmed: accept.then(|| d.clone()),
+            belief: Some(prior),
+            looks: 0,
+            reason: format!("decided on the prior {prior:.3}"),
+            reach: None,
+        });
+    }
+    let Some(closer) = approach(cx, mem, body, run, label, d)? else {
+        return Ok(Verdict::rejected("the class is not in the knowledge file"));
+    };
+    let (mut hits, mut looks) = (0, 0);
+    let mut best: Option<Detection> = None;
+    let mut belief = prior;
+    let accepted = loop {
+        match decide(belief, budget - looks, model, costs) {
+            Decision::Accept => break true,
+            Decision::Reject => break false,
+            Decision::Look => {
+                looks += 1;
+                let seen = closer.look(cx, body, run, true);
+                belief = model.update(belief, seen.is_some());
+                if let Some(e) = seen {
+                    hits += 1;
+                    keep_best(&mut best, e);
+                }
+            }
+        }
+    };
+    body.refresh_map(mem);
+    let reason = say(hits, looks, belief);
+    // An object accepted without a closer detection (a prior high enough that misses did not
+    // sink it) is reported where it was sighted.
+    let confirmed = accepted.then(|| best.unwrap_or_else(|| d.clone()));
+    Ok(Verdict {
+        confirmed,
+        belief: Some(belief),
+        looks,
+        reason,
+        reach: closer.reach(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::memory::Rejection;
+    use crate::skills::testing::{self, object, Verified};
+    use crate::trace::Event;
+    use avs_robot::{ActionResult, ScriptedRobot};
+
+    /// A cerealbox sighting verified by the default verifier (the shipped knowledge has no
+    /// verifier block); `prepare` sets the robot up.
+    fn verdict(prepare: impl FnOnce(&mut ScriptedRobot)) -> (Verified, Vec<bool>) {
+        let v = testing::verify_cerealbox(&testing::knowledge(), prepare);
+        let looks = v
+            .events
+            .iter()
+            .filter_map(|e| match e {
+                Event::DtAction {
+                    action, detected, ..
+                } if action.starts_with("VERIFY") => *detected,
+                _ => None,
+            })
+            .collect();
+        (v, looks)
+    }
+
+    fn decision(v: &Verified) -> (bool, Option<f64>, String) {
+        v.events
+            .iter()
+            .find_map(|e| match e {
+                Event::VerificationDecision {
+                    accepted,
+                    belief,
+                    reason,
+                    ..
+                } => Some((*accepted, *belief, reason.clone())),
+                _ => None,
+            })
+            .expect("a decision in the trace")
+    }
+
+    #[test]
+    fn a_real_object_is_looked_at_until_the_belief_passes_the_price_of_a_wrong_report() {
+        let (v, looks) = verdict(|r| r.place(object("cerealbox", 4.5, 2.0, 0.14)));
+        assert!(v.confirmed.is_some());
+        let (accepted, belief, _) = decision(&v);
+        // Every look hits (the scripted detector never misses): as many looks as the prior
+        // needs to pass 1 − (look cost / failure cost), more than the count rule's two.
+        assert!(accepted && looks.iter().all(|&h| h));
+        assert!(belief.unwrap() > 0.99, "{belief:?}");
+        assert!(looks.len() >= 3, "{looks:?}");
+        assert!(v.rejected.is_empty());
+    }
+
+    #[test]
+    fn a_sighting_no_closer_look_repeats_is_rejected_after_the_misses_it_needs() {
+        let (v, looks) = verdict(|_| {});
+        assert!(v.confirmed.is_none());
+        let (accepted, belief, reason) = decision(&v);
+        assert!(!accepted && looks.iter().all(|&h| !h));
+        assert!(belief.unwrap() < 0.01, "{belief:?}");
+        // Not the whole budget: a few misses settle a prior this low.
+        assert!(looks.len() < 8, "{looks:?}");
+        assert!(
+            reason.contains(&format!("0 of {}", looks.len())),
+            "{reason}"
+        );
+        assert_eq!(v.rejected, vec![("cerealbox".to_string(), [4.5, 2.0])]);
+    }
+
+    #[test]
+    fn misses_after_a_hit_are_weighed_not_counted() {
+        // One hit, then misses: the count rule's "2 of 3" would reject on the third look; the
+        // sequential rule rejects only once the misses outweigh the hit and the prior.
+        let (v, looks) = verdict(|r| {
+            r.script_view(ActionResult::Ok(vec![object("cerealbox", 4.5, 2.0, 0.14)]));
+            for _ in 0..10 {
+                r.script_view(ActionResult::Ok(vec![]));
+            }
+        });
+        assert_eq!(looks.first(), Some(&true));
+        let (accepted, belief, _) = decision(&v);
+        assert!(!accepted && belief.unwrap() < 0.01);
+        assert!(looks.len() >= 3, "{looks:?}");
+    }
+
+    #[test]
+    fn a_rejection_covers_only_what_its_looks_saw_beside_the_sighting() {
+        let config = crate::AgentConfig::default();
+        let k = testing::knowledge();
+        let mut robot = testing::robot(testing::room(6.0, 4.0), [1.0, 2.0]);
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let mut sink = testing::sink();
+        let mut run = testing::run(&mut sink);
+        let d = object("cerealbox", 4.5, 2.0, 0.14);
+        let found = super::super::verify(
+            testing::ctx(&k, &config),
+            &mut mem,
+            &mut crate::body::Body::new(&mut robot),
+            &mut run,
+            "cerealbox",
+            &d,
+        )
+        .unwrap();
+        assert!(found.is_none());
+        let [Rejection { radius, .. }] = mem.rejected.as_slice() else {
+            panic!("one rejection: {:?}", mem.rejected);
+        };
+        // The looks were zoomed onto the sighting from inside its recognition range: the
+        // image's half width there is well under the radius a detection confirms within.
+        assert!(
+            *radius > 0.05 && *radius < config.tuning.confirm_radius,
+            "{radius}"
+        );
+    }
+}
