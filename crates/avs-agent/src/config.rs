@@ -520,9 +520,9 @@ pub struct Tuning {
     pub room_explore_radius: f64,
     /// A verifying look confirms a sighting when it sees the class this close to it, metres.
     pub confirm_radius: f64,
-    /// Looks at most to verify a sighting.
+    /// Looks at most of the `count` verification rule.
     pub verify_looks: usize,
-    /// Detections needed to verify a sighting (within `verify_looks`).
+    /// Detections the `count` rule needs to confirm a sighting (within `verify_looks`).
     pub verify_hits: usize,
     /// Looks at most of the `sequential` verifier (the default one): it stops earlier once it
     /// is sure (about 99.8 % either way at the default prices), and decides on the belief it

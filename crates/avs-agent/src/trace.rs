@@ -116,6 +116,19 @@ pub struct View {
     pub zoom: f64,
 }
 
+impl View {
+    /// The view from `(x, y)` at `pan` and `tilt` (radians) through `zoom`.
+    pub fn new([x, y]: [f64; 2], pan: f64, tilt: f64, zoom: f64) -> Self {
+        Self {
+            x,
+            y,
+            pan_deg: pan.to_degrees(),
+            tilt_deg: tilt.to_degrees(),
+            zoom,
+        }
+    }
+}
+
 /// How many landmarks of a class a look around saw.
 #[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
 pub struct LandmarkCount {

@@ -194,13 +194,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                     run.emit(Event::DtAction {
                         action: format!("PROCESSVIEWCONE {cone} {}", view_text(v)),
                         detected: Some(detected),
-                        view: Some(View {
-                            x: v.pose[0],
-                            y: v.pose[1],
-                            pan_deg: v.pan.to_degrees(),
-                            tilt_deg: v.tilt.to_degrees(),
-                            zoom: v.zoom,
-                        }),
+                        view: Some(View::new([v.pose[0], v.pose[1]], v.pan, v.tilt, v.zoom)),
                         target: None,
                     });
                     run.zoomed(body.take_zoom_images());

@@ -174,13 +174,7 @@ impl Closer<'_> {
                 target[0], target[1], pose.x, pose.y
             ),
             detected: Some(seen.is_some()),
-            view: Some(View {
-                x: pose.x,
-                y: pose.y,
-                pan_deg: pan.to_degrees(),
-                tilt_deg: tilt.to_degrees(),
-                zoom,
-            }),
+            view: Some(View::new([pose.x, pose.y], pan, tilt, zoom)),
             target: Some(target),
         });
         run.zoomed(body.take_zoom_images());

@@ -306,13 +306,7 @@ pub(super) fn verify_by_model<R: Robot + ?Sized>(
                     ),
                 },
                 detected: None,
-                view: Some(View {
-                    x: pose.x,
-                    y: pose.y,
-                    pan_deg: pan.to_degrees(),
-                    tilt_deg: tilt.to_degrees(),
-                    zoom,
-                }),
+                view: Some(View::new([pose.x, pose.y], pan, tilt, zoom)),
                 target: Some(target),
             });
         }

@@ -84,8 +84,9 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
         });
     }
     // Nothing to walk for when the prior alone decides.
-    if decide(prior, budget, model, costs) != Decision::Look {
-        let accept = decide(prior, budget, model, costs) == Decision::Accept;
+    let first = decide(prior, budget, model, costs);
+    if first != Decision::Look {
+        let accept = first == Decision::Accept;
         return Ok(Verdict {
             confirmed: accept.then(|| d.clone()),
             belief: Some(prior),
