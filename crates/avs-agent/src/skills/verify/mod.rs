@@ -60,8 +60,10 @@ pub(crate) struct Verdict {
     pub looks: usize,
     /// Why it was decided so, for the trace.
     pub reason: String,
-    /// How far beside the sighting the verification's looks reached, metres, when less than
-    /// the radius a detection confirms within ([`crate::memory::Rejection::radius`]).
+    /// How far beside the sighting the closer looks reached, metres (half the image's width
+    /// there); `None` for the model verifiers, whose looks come from many vantage points: a
+    /// rejection then covers the radius a detection confirms within
+    /// ([`crate::memory::Rejection::radius`]).
     pub reach: Option<f64>,
 }
 
