@@ -6,8 +6,9 @@
 //!   `P(hit | none) = FP`: the knowledge's `sensor` (the view-cone POMDP's observation model,
 //!   `002` §IV), or the measured rates of the class when the configuration has them
 //!   ([`crate::AgentConfig::measured_sensing`]). Each rate is kept inside [`RATE_FLOOR`,
-//!   1 − `RATE_FLOOR`]: a false-alarm rate measured as 0 (none in a few dozen looks) is not a
-//!   detector whose one hit proves the object.
+//!   1 − `RATE_FLOOR`], the floor the zoom pipeline's calibration also keeps: a rate of exactly
+//!   0 would make one hit proof. (With the zoom pipeline's measured rates, no false alarm in 20
+//!   looks per class, two hits then decide from a 1 % prior.)
 //! * **What counts as a hit**: a detection of the class within `confirm_radius` of the
 //!   sighting whose estimated distance lies in the class's recognition range (scaled by the
 //!   look's zoom), where the detector recognises rather than guesses; the looks are centred
