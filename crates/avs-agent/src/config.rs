@@ -641,6 +641,10 @@ mod tests {
         assert_eq!(m.zoom_at(1.6), Some(4.0));
         assert_eq!(m.zoom_at(0.1), None);
         assert_eq!(m.zoom_at(2.5), None);
+        // The level comes with its measured range (where a verification look recognises).
+        assert_eq!(m.level_at(1.6), Some((4.0, [1.0, 2.0])));
+        assert_eq!(m.level_at(0.7), Some((2.0, [0.5, 1.0])));
+        assert_eq!(m.level_at(2.5), None);
     }
 
     #[test]
@@ -674,12 +678,24 @@ impl MeasuredSensing {
     /// levels whose range holds the distance, the one that holds it nearest the middle of its
     /// range (where a look finds the object most often); `None` when no level reaches it.
     pub fn zoom_at(&self, distance: f64) -> Option<f64> {
+        self.level_at(distance).map(|(z, _)| z)
+    }
+
+    /// The measured level [`Self::zoom_at`] picks for `distance`: its zoom and its range
+    /// `[min, max]` (metres, where one look through it finds the object at least half the
+    /// time).
+    pub fn level_at(&self, distance: f64) -> Option<(f64, [f64; 2])> {
         self.ranges_by_zoom
             .iter()
             .filter(|(_, [lo, hi])| (*lo..=*hi).contains(&distance) && hi > lo)
-            .map(|&(z, [lo, hi])| (z, (distance - 0.5 * (lo + hi)).abs() / (hi - lo)))
-            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.total_cmp(&b.0)))
-            .map(|(z, _)| z)
+            .map(|&(z, [lo, hi])| {
+                (
+                    (z, [lo, hi]),
+                    (distance - 0.5 * (lo + hi)).abs() / (hi - lo),
+                )
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0 .0.total_cmp(&b.0 .0)))
+            .map(|(level, _)| level)
     }
 }
 

@@ -118,7 +118,8 @@ impl Closer<'_> {
     /// the sighting with the highest confidence (at least `confirm_min_confidence`), if any;
     /// the look is a `VERIFY` trace line. With `recognised_only`, a detection counts only
     /// when its estimated distance from the camera lies in the class's recognition range
-    /// scaled by the look's zoom: a detection beyond it is the detector's guess at something
+    /// scaled by the look's zoom (with measured sensing, the measured range of the zoom level
+    /// looked through): a detection beyond it is the detector's guess at something
     /// it cannot recognise there (a look-alike a little farther than the sighting fires far
     /// more often than one inside the range), not a recognition.
     pub fn look<R: Robot + ?Sized>(
@@ -140,12 +141,14 @@ impl Closer<'_> {
         let [lo, hi] = self.class.recognition_range;
         let mid = 0.5 * (lo + hi);
         let away = dx.hypot(dy).hypot(dz);
-        let zoom = cx
-            .config
-            .sensing(label)
-            .and_then(|m| m.zoom_at(away))
-            .unwrap_or(away / mid.max(1e-3))
-            .clamp(1.0, cam.max_zoom.max(1.0));
+        // With measured sensing the level's measured range is where it recognises the class;
+        // otherwise the recognition range scaled by the zoom.
+        let (zoom, window) = match cx.config.sensing(label).and_then(|m| m.level_at(away)) {
+            Some((z, range)) => (z, Some(range)),
+            None => (away / mid.max(1e-3), None),
+        };
+        let zoom = zoom.clamp(1.0, cam.max_zoom.max(1.0));
+        let [near, far] = window.unwrap_or([lo * zoom, hi * zoom]);
         let seen = body
             .look(
                 &ViewCone::new(pose, pan, tilt, zoom),
@@ -163,7 +166,7 @@ impl Closer<'_> {
                                 let r = (e.pose.x - eye[0])
                                     .hypot(e.pose.y - eye[1])
                                     .hypot(e.pose.z - eye[2]);
-                                (lo * zoom..=hi * zoom).contains(&r)
+                                (near..=far).contains(&r)
                             })
                     })
                     .max_by(|a, b| a.confidence.total_cmp(&b.confidence))
