@@ -20,7 +20,7 @@ pub(crate) struct Closer<'a> {
     sighting: &'a Detection,
     /// The narrowest reach of the looks so far beside the sighting, metres (half the image's
     /// width at the sighting's distance); infinite before the first look.
-    reach: std::cell::Cell<f64>,
+    reach: f64,
 }
 
 /// Walk to where the sighting `d` of class `label` is best looked at again: the reachable
@@ -105,7 +105,7 @@ pub(crate) fn approach<'a, R: Robot + ?Sized>(
         class,
         label,
         sighting: d,
-        reach: std::cell::Cell::new(f64::INFINITY),
+        reach: f64::INFINITY,
     }))
 }
 
@@ -123,7 +123,7 @@ impl Closer<'_> {
     /// it cannot recognise there (a look-alike a little farther than the sighting fires far
     /// more often than one inside the range), not a recognition.
     pub fn look<R: Robot + ?Sized>(
-        &self,
+        &mut self,
         cx: Ctx,
         body: &mut Body<R>,
         run: &mut Run,
@@ -182,14 +182,14 @@ impl Closer<'_> {
         });
         run.zoomed(body.take_zoom_images());
         let half_width = away * (0.5 * cam.hfov / zoom).tan();
-        self.reach.set(self.reach.get().min(half_width));
+        self.reach = self.reach.min(half_width);
         seen
     }
 
     /// How far beside the sighting every look so far reached, metres (`None` before the
     /// first look): a rejection covers no more than this ([`crate::memory::Rejection`]).
     pub fn reach(&self) -> Option<f64> {
-        Some(self.reach.get()).filter(|r| r.is_finite())
+        Some(self.reach).filter(|r| r.is_finite())
     }
 }
 

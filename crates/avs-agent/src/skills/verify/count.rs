@@ -24,7 +24,7 @@ pub(crate) fn count_rule<R: Robot + ?Sized>(
     d: &Detection,
 ) -> Result<Verdict, AgentError> {
     let t = cx.tuning();
-    let Some(closer) = approach(cx, mem, body, run, label, d)? else {
+    let Some(mut closer) = approach(cx, mem, body, run, label, d)? else {
         return Ok(Verdict::rejected("the class is not in the knowledge file"));
     };
     let mut confirmed: Option<Detection> = None;

@@ -38,10 +38,10 @@ use avs_robot::{Detection, Robot};
 use avs_verify::sequential::{decide, BinaryLooks, Decision, StopCosts};
 
 /// A look's hit rates are kept at least this far from 0 and 1.
-pub(crate) const RATE_FLOOR: f64 = 1e-3;
+const RATE_FLOOR: f64 = 1e-3;
 
 /// The detector model and the prices of [`sequential`] for class `label` (module docs).
-pub(crate) fn model(cx: Ctx, label: &str) -> (BinaryLooks, StopCosts) {
+fn model(cx: Ctx, label: &str) -> (BinaryLooks, StopCosts) {
     let (miss, false_alarm) = crate::skills::session::sensing(cx, label);
     let clamp = |p: f64| p.clamp(RATE_FLOOR, 1.0 - RATE_FLOOR);
     let looks = BinaryLooks {
@@ -68,35 +68,29 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
     prior: f64,
 ) -> Result<Verdict, AgentError> {
     let (model, costs) = model(cx, label);
-    let budget = cx.tuning().sequential_max_looks;
-    let say = |hits: usize, looks: usize, b: f64| {
-        format!("{hits} of {looks} closer looks detected it; belief {b:.3}")
+    // A detector that fires as often on nothing as on the object proves nothing: no looks.
+    let budget = if model.is_valid() {
+        cx.tuning().sequential_max_looks
+    } else {
+        0
     };
-    if !model.is_valid() {
-        // A detector that fires as often on nothing as on the object proves nothing.
-        let accept = decide(prior, 0, model, costs) == Decision::Accept;
-        let reason = "the detector's hit rates carry no evidence; decided on the prior";
-        return Ok(Verdict {
-            confirmed: accept.then(|| d.clone()),
-            belief: Some(prior),
-            looks: 0,
-            reason: reason.into(),
-            reach: None,
-        });
-    }
     // Nothing to walk for when the prior alone decides.
     let first = decide(prior, budget, model, costs);
     if first != Decision::Look {
-        let accept = first == Decision::Accept;
+        let reason = if model.is_valid() {
+            format!("decided on the prior {prior:.3}")
+        } else {
+            "the detector's hit rates carry no evidence; decided on the prior".into()
+        };
         return Ok(Verdict {
-            confirmed: accept.then(|| d.clone()),
+            confirmed: (first == Decision::Accept).then(|| d.clone()),
             belief: Some(prior),
             looks: 0,
-            reason: format!("decided on the prior {prior:.3}"),
+            reason,
             reach: None,
         });
     }
-    let Some(closer) = approach(cx, mem, body, run, label, d)? else {
+    let Some(mut closer) = approach(cx, mem, body, run, label, d)? else {
         return Ok(Verdict::rejected("the class is not in the knowledge file"));
     };
     let (mut hits, mut looks) = (0, 0);
@@ -118,7 +112,7 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
         }
     };
     body.refresh_map(mem);
-    let reason = say(hits, looks, belief);
+    let reason = format!("{hits} of {looks} closer looks detected it; belief {belief:.3}");
     // An object accepted without a closer detection (a prior high enough that misses did not
     // sink it) is reported where it was sighted.
     let confirmed = accepted.then(|| best.unwrap_or_else(|| d.clone()));
