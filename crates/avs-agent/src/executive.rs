@@ -23,6 +23,7 @@ use crate::world_model::WorldModel;
 use crate::AgentError;
 use avs_concepts::ConceptualMap;
 use avs_format::knowledge::Knowledge;
+use avs_map::places::dist;
 use avs_plan::continual::{ActivePlan, ContinualPlanner, Decision, Replan, Verdict};
 use avs_plan::domain::Domain;
 use avs_robot::Robot;
@@ -350,6 +351,16 @@ fn main_loop<R: Robot + ?Sized>(
             });
             // A map update the world model refuses (e.g. a room renamed under a search)
             // ends the step, not the search: the agent replans from what it knows.
+            // A MOVE followed by more MOVEs is a waypoint of a route: drive along the route's
+            // shortest path on the map and pass the place there.
+            let action = match action {
+                Ok(Action::Move { to, pos }) => Ok(Action::Move {
+                    pos: route_end(&actions[i + 1..])
+                        .map_or(pos, |end| passing_point(mem, body.pose(), pos, end)),
+                    to,
+                }),
+                a => a,
+            };
             let end = match action {
                 Err(r) => StepEnd::Replan(r),
                 Ok(a) => execute(cx, mem, body, run, &plan, i, a, goal).unwrap_or_else(|e| {
@@ -477,6 +488,42 @@ fn last_resort<R: Robot + ?Sized>(
         planner: Box::new(reason),
         coverage: Box::new(e),
     }))
+}
+
+/// Where the run of MOVE steps that starts the rest of a plan ends, when there is one:
+/// the target of its last MOVE (or of a MOVE into a placeholder), assumptions skipped.
+fn route_end(rest: &[Result<Action, ReplanReason>]) -> Option<[f64; 2]> {
+    let mut end = None;
+    for a in rest {
+        match a {
+            Ok(Action::Assume) => {}
+            Ok(Action::Move { pos, .. } | Action::Enter { pos, .. }) => end = Some(*pos),
+            _ => break,
+        }
+    }
+    end
+}
+
+/// Where a robot at `here`, passing the place at `via` on its way to `end`, stops for the
+/// MOVE to `via`: the point of the shortest known path to `end` nearest `via`.
+///
+/// The plan's MOVEs follow the place graph, whose edges join places in the order the robot
+/// first drove between them: a route from one room to the next may pass the place where the
+/// search started, metres off the straight way (and how far depends on where the places
+/// fell, so on the grid). The places between are not visited for themselves (nothing is done
+/// at them), so the robot takes the shortest path to the route's end and ends each MOVE
+/// where that path passes its place; the plan is monitored there as before. Without a known
+/// path, the place itself.
+fn passing_point(mem: &Memory, here: avs_robot::Pose2D, via: [f64; 2], end: [f64; 2]) -> [f64; 2] {
+    let path = mem.with_trav(false, |t| {
+        avs_map::nav::shortest_path(t, [here.x, here.y], end, 1.0)
+    });
+    path.and_then(|p| {
+        p.points
+            .into_iter()
+            .min_by(|a, b| dist(*a, via).total_cmp(&dist(*b, via)))
+    })
+    .unwrap_or(via)
 }
 
 /// Execute step `i` of `plan`, read as `action`.
@@ -625,6 +672,53 @@ mod tests {
             "{}",
             report.reason
         );
+    }
+
+    #[test]
+    fn a_run_of_moves_ends_at_its_last_target_past_assumptions_and_stops_at_other_steps() {
+        let place = |x: f64| PlaceArg {
+            name: format!("place{x}"),
+            target: crate::memory::Target::Place(petgraph::graph::NodeIndex::new(0)),
+            pos: Some([x, 0.0]),
+            attach: None,
+        };
+        let mv = |x: f64| {
+            Ok(Action::Move {
+                to: place(x),
+                pos: [x, 0.0],
+            })
+        };
+        let report = Ok(Action::Report {
+            object: "object0".into(),
+            known: None,
+        });
+        assert_eq!(route_end(&[]), None);
+        assert_eq!(route_end(&[report.clone(), mv(1.0)]), None);
+        assert_eq!(
+            route_end(&[mv(1.0), Ok(Action::Assume), mv(2.0), report, mv(3.0)]),
+            Some([2.0, 0.0])
+        );
+    }
+
+    #[test]
+    fn a_move_on_the_way_ends_where_the_route_passes_its_place_not_at_it() {
+        let config = AgentConfig::default();
+        let k = testing::knowledge();
+        let mut robot = testing::robot(testing::room(6.0, 4.0), [1.0, 1.0]);
+        let mem = testing::memory(&config, &k, &mut robot);
+        let here = avs_robot::Robot::pose(&robot);
+        // A place 2 m off the straight way from (1, 1) to (5, 1).
+        let (via, end) = ([3.0, 3.0], [5.0, 1.0]);
+        let p = passing_point(&mem, here, via, end);
+        let d = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
+        // On the straight way (within the grid's steps), beside the place: no detour to it.
+        assert!(
+            (d([here.x, here.y], p) + d(p, end) - d([here.x, here.y], end)).abs() < 0.3,
+            "{p:?} is off the way"
+        );
+        assert!((p[0] - via[0]).abs() < 0.3 && p[1] < 1.5, "{p:?}");
+        // Without a way to the end, the place itself.
+        assert_eq!(passing_point(&mem, here, via, [50.0, 50.0]), via);
     }
 
     /// The shipped domain.

@@ -31,6 +31,8 @@ pub struct Traversability {
     resolution: f64,
     origin: [f64; 2],
     ok: Vec<bool>,
+    /// Occupied cells, and unknown ones unless they count as free.
+    blocked: Vec<bool>,
 }
 
 impl Traversability {
@@ -58,6 +60,7 @@ impl Traversability {
             resolution: grid.resolution(),
             origin: grid.origin(),
             ok,
+            blocked,
         }
     }
 
@@ -70,28 +73,72 @@ impl Traversability {
             && self.ok[row as usize * self.width + col as usize]
     }
 
-    /// The traversable cell nearest to cell `(col, row)` within `max_cells` (Chebyshev rings).
+    /// The traversable cell nearest to cell `(col, row)` through free space, within
+    /// `max_cells` of it (Chebyshev): the one with the shortest 8-connected way there that
+    /// never steps from a free cell into a blocked one.
+    ///
+    /// A goal inside an obstacle (an object on a table, a point in a wall) leaves it on any
+    /// side; a goal in free space stays on its own side of the walls. The nearest cell in a
+    /// straight line may be behind a wall: a point just inside a room, closer to the wall than
+    /// the robot's radius, would snap into the corridor on the wall's other side — whether it
+    /// does depends on where the cell boundaries fall, so on the grid's resolution.
     pub fn nearest_ok(&self, col: i64, row: i64, max_cells: i64) -> Option<(i64, i64)> {
         if self.ok(col, row) {
             return Some((col, row));
         }
-        let mut best: Option<((i64, i64), i64)> = None;
-        for ring in 1..=max_cells {
-            for dc in -ring..=ring {
-                for dr in -ring..=ring {
-                    if dc.abs() != ring && dr.abs() != ring {
-                        continue;
-                    }
-                    if self.ok(col + dc, row + dr) {
-                        let d2 = dc * dc + dr * dr;
-                        if best.is_none_or(|(_, b)| d2 < b) {
-                            best = Some(((col + dc, row + dr), d2));
-                        }
-                    }
-                }
+        // Dijkstra over the window around the cell; cells off the grid are blocked. No window
+        // needs to be larger than the grid.
+        let max_cells = max_cells.clamp(0, (self.width + self.height) as i64);
+        let side = 2 * max_cells + 1;
+        let at = |k: usize| {
+            (
+                col - max_cells + k as i64 % side,
+                row - max_cells + k as i64 / side,
+            )
+        };
+        let blocked = |c: i64, r: i64| {
+            c < 0
+                || r < 0
+                || c as usize >= self.width
+                || r as usize >= self.height
+                || self.blocked[r as usize * self.width + c as usize]
+        };
+        let mut best = vec![f64::INFINITY; (side * side) as usize];
+        let mut heap = BinaryHeap::new();
+        let start = (max_cells * side + max_cells) as usize;
+        best[start] = 0.0;
+        heap.push(Entry {
+            f: 0.0,
+            g: 0.0,
+            idx: start,
+        });
+        while let Some(Entry { g: gc, idx: k, .. }) = heap.pop() {
+            if gc > best[k] {
+                continue;
             }
-            if best.is_some() {
-                return best.map(|b| b.0);
+            let c = at(k);
+            if self.ok(c.0, c.1) {
+                return Some(c);
+            }
+            let from_free = !blocked(c.0, c.1);
+            for &(dc, dr, cost) in &NEIGHBOURS {
+                let n = (c.0 + dc, c.1 + dr);
+                if (n.0 - col).abs() > max_cells
+                    || (n.1 - row).abs() > max_cells
+                    || (from_free && blocked(n.0, n.1))
+                {
+                    continue;
+                }
+                let ng = gc + cost;
+                let nk = ((n.1 - row + max_cells) * side + (n.0 - col + max_cells)) as usize;
+                if ng < best[nk] {
+                    best[nk] = ng;
+                    heap.push(Entry {
+                        f: ng,
+                        g: ng,
+                        idx: nk,
+                    });
+                }
             }
         }
         None
@@ -313,6 +360,46 @@ mod tests {
         );
         let fat = Traversability::new(&g, 0.3, false);
         assert!(shortest_path(&fat, [0.75, 0.75], [0.75, 2.75], 0.5).is_none());
+    }
+
+    #[test]
+    fn a_goal_just_behind_a_wall_snaps_on_its_own_side() {
+        // Two rooms, one above the other, split by a one-cell wall with a doorway at the east
+        // end. Of the upper room only a strip along the wall is known (seen through the
+        // doorway); the goal lies in it, too close to the wall for the robot. The nearest
+        // traversable cell in a straight line is in the lower room, behind the wall.
+        let g = OccupancyGrid::from_ascii(
+            "##############\n#????????????#\n#????????????#\n#............#\n##########...#\n#............#\n#............#\n#............#\n##############\n",
+            0.5,
+            [0.0, 0.0],
+        )
+        .unwrap();
+        let start = [2.25, 1.25];
+        let goal = [2.25, 2.75];
+        // On the known map no cell the robot fits in is near the goal on its side: no path,
+        // rather than one to the wrong side of the wall.
+        let known = Traversability::new(&g, 0.3, false);
+        if let Some(p) = shortest_path(&known, start, goal, 1.5) {
+            let end = *p.points.last().unwrap();
+            assert!(end[1] > 2.5, "the goal snapped across the wall to {end:?}");
+        }
+        // With unknown space free, the path goes to the goal's side through the doorway.
+        let optimistic = Traversability::new(&g, 0.3, true);
+        let p = shortest_path(&optimistic, start, goal, 1.5).expect("a path via the doorway");
+        let end = *p.points.last().unwrap();
+        assert!(end[1] > 2.5, "the goal snapped across the wall to {end:?}");
+        assert!(
+            p.length > 8.0,
+            "{} m cannot have used the doorway",
+            p.length
+        );
+        // A goal inside the wall itself snaps to the nearest cell on either side.
+        let q = shortest_path(&known, start, [2.25, 2.2], 1.5).expect("a path");
+        assert!(
+            q.length < 1.5,
+            "{} m: a goal in a wall may snap to the near side",
+            q.length
+        );
     }
 
     /// A 20 × 14 grid with a wall around it and about one cell in six blocked, from `seed`.

@@ -260,14 +260,41 @@ pub(crate) fn room_points(
     let grid = &mem.grid;
     let heights = search_heights(cx.knowledge, class, cover, t.height_step, t.small_object_z);
     let step = lattice_step(grid, t.point_spacing);
+    // The known landmarks of the room, as the squares `location_points` searches on them: a
+    // laser sees a table's or a counter's edge, not its top, so the cells under a landmark
+    // stay unknown, and without these a search of the room never looked at what lies on its
+    // furniture (a cerealbox a table search missed was never looked at again).
+    let tops: Vec<([f64; 2], f64)> = mem
+        .objects
+        .iter()
+        .filter(|o| {
+            // A landmark's centre cell is often unknown (no room of its own): then the room
+            // of the place it was seen from.
+            o.landmark.is_some()
+                && mem
+                    .room_at([o.pos.x, o.pos.y])
+                    .or_else(|| mem.room_for(o.place))
+                    == Some(RoomId(r))
+        })
+        .filter_map(|o| {
+            let c = cx.knowledge.class(&o.class)?;
+            Some(([o.pos.x, o.pos.y], 0.5 * c.size[0].max(c.size[1])))
+        })
+        .collect();
+    let on_a_landmark = |x: f64, y: f64| {
+        tops.iter()
+            .any(|(c, h)| (x - c[0]).abs() <= *h && (y - c[1]).abs() <= *h)
+    };
     let mut pts = Vec::new();
     for row in (0..grid.height()).step_by(step) {
         for col in (0..grid.width()).step_by(step) {
-            if grid.get(col, row) == Cell::Unknown {
-                continue;
-            }
             let (x, y) = grid.cell_center(col as i64, row as i64);
-            if mem.room_at([x, y]) == Some(RoomId(r)) {
+            let in_room = if grid.get(col, row) == Cell::Unknown {
+                on_a_landmark(x, y)
+            } else {
+                mem.room_at([x, y]) == Some(RoomId(r))
+            };
+            if in_room {
                 pts.extend(heights.iter().map(|&z| [x, y, z]));
             }
         }
@@ -407,6 +434,52 @@ mod planning_tests {
             matches!(e, Event::Observed { what } if what.starts_with(&format!("{} view cones for cerealbox", set.views.len())))
         });
         assert!(said, "{:?}", run.events);
+    }
+
+    /// A 5 m × 4 m room with a table whose edge the laser saw and whose top it could not
+    /// (the cells under it unknown, as a real scan leaves them): a search of the room looks
+    /// at the table's top too, not only at the floor around it.
+    #[test]
+    fn a_room_search_covers_the_tops_of_its_known_landmarks() {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        let mut grid = testing::room(5.0, 4.0);
+        // The table: 1.2 m × 0.8 m centred at (3.0, 2.0) on 0.1 m cells, its rim occupied.
+        let (c0, c1, r0, r1) = (24, 35, 16, 23);
+        for row in r0..=r1 {
+            for col in c0..=c1 {
+                let rim = row == r0 || row == r1 || col == c0 || col == c1;
+                grid.set(col, row, if rim { Cell::Occupied } else { Cell::Unknown });
+            }
+        }
+        let mut robot = testing::robot(grid, [1.0, 2.0]);
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let room = mem.current_room().expect("a room");
+        let cx = testing::ctx(&k, &config);
+        let class = k.class("cerealbox").unwrap().clone();
+        let on_table = |pts: &[[f64; 3]]| {
+            pts.iter()
+                .filter(|p| (p[0] - 3.0).abs() < 0.45 && (p[1] - 2.0).abs() < 0.25)
+                .count()
+        };
+        // Unknown cells are not the room's while nothing is known to stand there.
+        assert_eq!(on_table(&room_points(cx, &mem, room.0, &class, false)), 0);
+        let place = mem.current_place().expect("a place");
+        let lm = mem.wm.found_landmark(place, "table").unwrap();
+        mem.objects.push(crate::memory::Known {
+            class: "table".into(),
+            pos: avs_robot::Point3 {
+                x: 3.0,
+                y: 2.0,
+                z: 0.0,
+            },
+            place,
+            landmark: Some(lm),
+            on: None,
+            counted: true,
+            confidence: 1.0,
+        });
+        let pts = room_points(cx, &mem, room.0, &class, false);
+        assert!(on_table(&pts) > 0, "no point on the table's top: {pts:?}");
     }
 
     /// Two 4 m × 4 m rooms side by side, a 0.2 m wall between them with a 1 m door in its
