@@ -103,45 +103,32 @@ impl Traversability {
                 || r as usize >= self.height
                 || self.blocked[r as usize * self.width + c as usize]
         };
-        let mut best = vec![f64::INFINITY; (side * side) as usize];
-        let mut heap = BinaryHeap::new();
         let start = (max_cells * side + max_cells) as usize;
-        best[start] = 0.0;
-        heap.push(Entry {
-            f: 0.0,
-            g: 0.0,
-            idx: start,
-        });
-        while let Some(Entry { g: gc, idx: k, .. }) = heap.pop() {
-            if gc > best[k] {
-                continue;
-            }
-            let c = at(k);
-            if self.ok(c.0, c.1) {
-                return Some(c);
-            }
-            let from_free = !blocked(c.0, c.1);
-            for &(dc, dr, cost) in &NEIGHBOURS {
-                let n = (c.0 + dc, c.1 + dr);
-                if (n.0 - col).abs() > max_cells
-                    || (n.1 - row).abs() > max_cells
-                    || (from_free && blocked(n.0, n.1))
-                {
-                    continue;
+        let (_, found) = dijkstra(
+            (side * side) as usize,
+            start,
+            |k, push| {
+                let c = at(k);
+                let from_free = !blocked(c.0, c.1);
+                for &(dc, dr, cost) in &NEIGHBOURS {
+                    let n = (c.0 + dc, c.1 + dr);
+                    if (n.0 - col).abs() <= max_cells
+                        && (n.1 - row).abs() <= max_cells
+                        && !(from_free && blocked(n.0, n.1))
+                    {
+                        push(
+                            ((n.1 - row + max_cells) * side + (n.0 - col + max_cells)) as usize,
+                            cost,
+                        );
+                    }
                 }
-                let ng = gc + cost;
-                let nk = ((n.1 - row + max_cells) * side + (n.0 - col + max_cells)) as usize;
-                if ng < best[nk] {
-                    best[nk] = ng;
-                    heap.push(Entry {
-                        f: ng,
-                        g: ng,
-                        idx: nk,
-                    });
-                }
-            }
-        }
-        None
+            },
+            |k| {
+                let c = at(k);
+                self.ok(c.0, c.1)
+            },
+        );
+        found.map(at)
     }
 
     fn cell_of(&self, p: [f64; 2]) -> (i64, i64) {
@@ -287,49 +274,72 @@ pub fn shortest_path_within(
     None
 }
 
+/// Dijkstra over `n` nodes from `start`: `step(node, push)` pushes each neighbour with the
+/// cost of the move there; the search stops at the first node settled for which `goal` holds.
+/// The least costs found (∞ for nodes not reached) and that node, if any. Ties settle the
+/// lower-cost-then-lower-index node first ([`Entry`]), so the result is deterministic.
+fn dijkstra(
+    n: usize,
+    start: usize,
+    mut step: impl FnMut(usize, &mut dyn FnMut(usize, f64)),
+    mut goal: impl FnMut(usize) -> bool,
+) -> (Vec<f64>, Option<usize>) {
+    let mut best = vec![f64::INFINITY; n];
+    let mut heap = BinaryHeap::new();
+    best[start] = 0.0;
+    heap.push(Entry {
+        f: 0.0,
+        g: 0.0,
+        idx: start,
+    });
+    while let Some(Entry { g, idx, .. }) = heap.pop() {
+        if g > best[idx] {
+            continue;
+        }
+        if goal(idx) {
+            return (best, Some(idx));
+        }
+        step(idx, &mut |next, cost| {
+            let ng = g + cost;
+            if ng < best[next] {
+                best[next] = ng;
+                heap.push(Entry {
+                    f: ng,
+                    g: ng,
+                    idx: next,
+                });
+            }
+        });
+    }
+    (best, None)
+}
+
 /// Travel distance in metres from `start` to every cell (∞ where unreachable), by Dijkstra with
 /// the same moves as [`shortest_path`].
 pub fn distance_field(t: &Traversability, start: [f64; 2], snap: f64) -> Vec<f64> {
     let n = t.width * t.height;
-    let mut best = vec![f64::INFINITY; n];
     let snap_cells = (snap / t.resolution).ceil() as i64;
     let s0 = t.cell_of(start);
     let Some(s) = t.nearest_ok(s0.0, s0.1, snap_cells) else {
-        return best;
+        return vec![f64::INFINITY; n];
     };
     let w = t.width;
-    let mut heap = BinaryHeap::new();
-    let si = s.1 as usize * w + s.0 as usize;
-    best[si] = 0.0;
-    heap.push(Entry {
-        f: 0.0,
-        g: 0.0,
-        idx: si,
-    });
-    while let Some(Entry { g: gc, idx: i, .. }) = heap.pop() {
-        if gc > best[i] {
-            continue;
-        }
-        let c = ((i % w) as i64, (i / w) as i64);
-        for &(dc, dr, cost) in &NEIGHBOURS {
-            let nc = (c.0 + dc, c.1 + dr);
-            if !t.ok(nc.0, nc.1)
-                || (dc != 0 && dr != 0 && !(t.ok(c.0 + dc, c.1) && t.ok(c.0, c.1 + dr)))
-            {
-                continue;
+    let (mut best, _) = dijkstra(
+        n,
+        s.1 as usize * w + s.0 as usize,
+        |i, push| {
+            let c = ((i % w) as i64, (i / w) as i64);
+            for &(dc, dr, cost) in &NEIGHBOURS {
+                let nc = (c.0 + dc, c.1 + dr);
+                if t.ok(nc.0, nc.1)
+                    && (dc == 0 || dr == 0 || (t.ok(c.0 + dc, c.1) && t.ok(c.0, c.1 + dr)))
+                {
+                    push(nc.1 as usize * w + nc.0 as usize, cost);
+                }
             }
-            let ng = gc + cost;
-            let ni = nc.1 as usize * w + nc.0 as usize;
-            if ng < best[ni] {
-                best[ni] = ng;
-                heap.push(Entry {
-                    f: ng,
-                    g: ng,
-                    idx: ni,
-                });
-            }
-        }
-    }
+        },
+        |_| false,
+    );
     for d in &mut best {
         *d *= t.resolution;
     }
