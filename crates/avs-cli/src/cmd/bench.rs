@@ -14,7 +14,7 @@
 //! target's doors shutting early or late or closed from the start), with one table row per
 //! fault: runs, found, gave up, give-ups naming their cause, wrong reports, the slowest run.
 
-use super::search::{DetectorArg, ObjectiveArg};
+use super::search::{DetectorArg, ModelArgs};
 use anyhow::Context;
 use avs_agent::AgentConfig;
 use avs_agent::Strategy;
@@ -61,15 +61,9 @@ pub struct Args {
     /// instead of the one-shot detector.
     #[arg(long)]
     pub zoom: bool,
-    /// Rooms count the landmarks not found yet (`002` §III-A's whole hierarchy; on by
-    /// default, `--unfound-landmarks false` turns it off; see BENCHMARKS.md).
-    #[arg(long, value_name = "BOOL", num_args = 0..=1, default_value_t = true,
-          default_missing_value = "true", action = clap::ArgAction::Set)]
-    pub unfound_landmarks: bool,
-    /// Which plan the planner starts: `fixed` (the paper's R) or `ratio` (the most success
-    /// probability per unit of cost, the default).
-    #[arg(long, value_enum, default_value_t = ObjectiveArg::default())]
-    pub objective: ObjectiveArg,
+    /// The planner's model: `--unfound-landmarks`, `--objective`.
+    #[command(flatten)]
+    pub model: ModelArgs,
     /// Search this class on every floor (default: drawn per floor).
     #[arg(long)]
     pub goal: Option<String>,
@@ -122,8 +116,8 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         lookalikes_per_room: a.lookalikes,
         detector: a.detector.into(),
         zoom_pipeline: a.zoom,
-        unfound_landmarks: a.unfound_landmarks,
-        objective: a.objective.into(),
+        unfound_landmarks: a.model.unfound_landmarks,
+        objective: a.model.objective.into(),
     };
     let r = bench(&knowledge, &domain, &params, &tick)?;
     bar.finish();

@@ -92,16 +92,9 @@ pub struct Args {
     /// The simulated robot's object detector.
     #[arg(long, value_enum, default_value_t = DetectorArg::default())]
     pub detector: DetectorArg,
-    /// Rooms count the landmarks not found yet in their chance of holding the object, and a
-    /// room behind a placeholder all it is expected to hold (`002` §III-A's whole hierarchy;
-    /// on by default, `--unfound-landmarks false` turns it off; see BENCHMARKS.md).
-    #[arg(long, value_name = "BOOL", num_args = 0..=1, default_value_t = true,
-          default_missing_value = "true", action = clap::ArgAction::Set)]
-    pub unfound_landmarks: bool,
-    /// Which plan the planner starts: `fixed` (the paper's R) or `ratio` (the most success
-    /// probability per unit of cost, the default).
-    #[arg(long, value_enum, default_value_t = ObjectiveArg::default())]
-    pub objective: ObjectiveArg,
+    /// The planner's model: `--unfound-landmarks`, `--objective`.
+    #[command(flatten)]
+    pub model: ModelArgs,
     /// Looks run the zoom pipeline (attention, zoom windows, three-step search, recognition)
     /// instead of the one-shot detector; the trace shows each zoomed image (`ZOOM …`).
     #[arg(long)]
@@ -126,6 +119,21 @@ impl From<DetectorArg> for avs_sim::sim_robot::DetectorKind {
             DetectorArg::Correlated => Self::Correlated,
         }
     }
+}
+
+/// The planner's model options of `avs search` and `avs bench`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ModelArgs {
+    /// Rooms count the landmarks not found yet in their chance of holding the object, and a
+    /// room behind a placeholder all it is expected to hold (`002` §III-A's whole hierarchy;
+    /// on by default, `--unfound-landmarks false` turns it off; see BENCHMARKS.md).
+    #[arg(long, value_name = "BOOL", num_args = 0..=1, default_value_t = true,
+          default_missing_value = "true", action = clap::ArgAction::Set)]
+    pub unfound_landmarks: bool,
+    /// Which plan the planner starts: `fixed` (the paper's R) or `ratio` (the most success
+    /// probability per unit of cost, the default).
+    #[arg(long, value_enum, default_value_t = ObjectiveArg::default())]
+    pub objective: ObjectiveArg,
 }
 
 /// Which plan the planner starts (`--objective`).
@@ -561,8 +569,8 @@ fn search(a: Args) -> anyhow::Result<bool> {
         seed: a.seed,
         strategy: a.strategy,
         zoom_pipeline: a.zoom,
-        unfound_landmarks: a.unfound_landmarks,
-        objective: a.objective.into(),
+        unfound_landmarks: a.model.unfound_landmarks,
+        objective: a.model.objective.into(),
         faults: Faults {
             detector: a.detector.into(),
             failure_rate: a.failure_rate,
