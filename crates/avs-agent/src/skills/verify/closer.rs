@@ -2,6 +2,7 @@
 //! `sequential`): where to stand ([`approach`]) and one look centred on the sighting
 //! ([`Closer::look`]).
 
+use super::CandidateRef;
 use crate::body::Body;
 use crate::memory::{path_len_on, Memory};
 use crate::run::Run;
@@ -23,7 +24,7 @@ pub(crate) struct Closer<'a> {
     reach: f64,
 }
 
-/// Walk to where the sighting `d` of class `label` is best looked at again: the reachable
+/// Walk to where candidate `c`'s sighting is best looked at again: the reachable
 /// point nearest the robot at the middle of the class's recognition range (else at its far
 /// end, else halfway to the detection range's far end), with a clear line of sight, no
 /// closer than the camera's tilt allows. `None` when the class is not in the knowledge file.
@@ -33,9 +34,9 @@ pub(crate) fn approach<'a, R: Robot + ?Sized>(
     mem: &mut Memory,
     body: &mut Body<R>,
     run: &mut Run,
-    label: &'a str,
-    d: &'a Detection,
+    c: &CandidateRef<'a>,
 ) -> Result<Option<Closer<'a>>, AgentError> {
+    let (label, d) = (c.label, c.sighting);
     let t = cx.tuning();
     let Some(class) = cx.knowledge.class(label).cloned() else {
         return Ok(None);

@@ -2,7 +2,7 @@
 //! of Masuzawa & Miura, `001` §4, reduced to one viewpoint), accepted on enough detections.
 
 use super::closer::{approach, keep_best};
-use super::Verdict;
+use super::{CandidateRef, Verdict};
 use crate::body::Body;
 use crate::memory::Memory;
 use crate::run::Run;
@@ -20,11 +20,10 @@ pub(crate) fn count_rule<R: Robot + ?Sized>(
     mem: &mut Memory,
     body: &mut Body<R>,
     run: &mut Run,
-    label: &str,
-    d: &Detection,
+    c: &CandidateRef,
 ) -> Result<Verdict, AgentError> {
     let t = cx.tuning();
-    let Some(mut closer) = approach(cx, mem, body, run, label, d)? else {
+    let Some(mut closer) = approach(cx, mem, body, run, c)? else {
         return Ok(Verdict::rejected("the class is not in the knowledge file"));
     };
     let mut confirmed: Option<Detection> = None;

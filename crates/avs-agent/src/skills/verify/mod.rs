@@ -49,6 +49,17 @@ use avs_robot::{Detection, Robot};
 /// The prior of a candidate is kept at least this far from 0 and 1.
 pub(crate) const PRIOR_FLOOR: f64 = 0.01;
 
+/// What every verifier is given: the class, the sighting that made the candidate, and the
+/// candidate's prior (see *The prior* above).
+pub(crate) struct CandidateRef<'a> {
+    /// The object class.
+    pub label: &'a str,
+    /// The detection that made the candidate.
+    pub sighting: &'a Detection,
+    /// P(it is an object of the class) before any closer look.
+    pub prior: f64,
+}
+
 /// How a verifier decided a candidate.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Verdict {
@@ -104,6 +115,11 @@ pub(crate) fn verify<R: Robot + ?Sized>(
         verifier: strategy.name().to_string(),
     });
     let start = body.odometry();
+    let c = CandidateRef {
+        label,
+        sighting: d,
+        prior,
+    };
     let verdict = match spec {
         Some(s) if s.strategy.uses_model() => {
             let seed = cx
@@ -111,20 +127,20 @@ pub(crate) fn verify<R: Robot + ?Sized>(
                 .verifier_seed
                 .wrapping_mul(0x9e37_79b9_7f4a_7c15)
                 .wrapping_add(run.metrics.candidates as u64);
-            match model::verify_by_model(cx, mem, body, run, label, d, &s, prior, seed)? {
+            match model::verify_by_model(cx, mem, body, run, &c, &s, seed)? {
                 model::Outcome::Decided(v) => v,
                 model::Outcome::NoScores(why) => {
                     run.observe(format!(
                         "{why}: the {label} is verified by its closer looks' detections instead"
                     ));
-                    sequential::sequential(cx, mem, body, run, label, d, prior)?
+                    sequential::sequential(cx, mem, body, run, &c)?
                 }
             }
         }
         Some(s) if s.strategy == VerifierStrategy::Count => {
-            count::count_rule(cx, mem, body, run, label, d)?
+            count::count_rule(cx, mem, body, run, &c)?
         }
-        _ => sequential::sequential(cx, mem, body, run, label, d, prior)?,
+        _ => sequential::sequential(cx, mem, body, run, &c)?,
     };
     let accepted = verdict.confirmed.is_some();
     if accepted {

@@ -49,7 +49,7 @@
 //!   times the zoom), beyond the way back to where the robot saw the candidate, count as
 //!   unreachable for the planners (bounded path searches on a large map).
 
-use super::Verdict;
+use super::{CandidateRef, Verdict};
 use crate::body::Body;
 use crate::memory::Memory;
 use crate::run::Run;
@@ -57,7 +57,7 @@ use crate::skills::Ctx;
 use crate::trace::{Event, View};
 use crate::AgentError;
 use avs_format::verifier::{ModelKind, VerifierSpec, VerifierStrategy, DEFAULT_GREEDY_THRESHOLD};
-use avs_robot::{Detection, FailureReason, Robot, ViewCone};
+use avs_robot::{FailureReason, Robot, ViewCone};
 use avs_verify::pbd::DecisionCosts;
 use avs_verify::planner::greedy::GreedyConfig;
 use avs_verify::planner::planned::PlannedConfig;
@@ -206,20 +206,18 @@ pub(crate) fn decision_costs(config: &crate::AgentConfig) -> DecisionCosts {
     }
 }
 
-/// Verify sighting `d` of class `label` with the model verifier of `spec`, from prior `prior`;
+/// Verify candidate `c` (its sighting, class and prior) with the model verifier of `spec`;
 /// `seed` seeds the planned verifier's sampling.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn verify_by_model<R: Robot + ?Sized>(
     cx: Ctx,
     mem: &mut Memory,
     body: &mut Body<R>,
     run: &mut Run,
-    label: &str,
-    d: &Detection,
+    c: &CandidateRef,
     spec: &VerifierSpec,
-    prior: f64,
     seed: u64,
 ) -> Result<Outcome, AgentError> {
+    let (label, d, prior) = (c.label, c.sighting, c.prior);
     let cam = body.camera();
     let built = match mem.verifiers.get(label) {
         Some(b) => b.clone(),

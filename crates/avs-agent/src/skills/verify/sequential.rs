@@ -28,7 +28,7 @@
 //!   follow the vantage point (`--detector correlated`) needs the planned verifiers.
 
 use super::closer::{approach, keep_best};
-use super::Verdict;
+use super::{CandidateRef, Verdict};
 use crate::body::Body;
 use crate::memory::Memory;
 use crate::run::Run;
@@ -57,16 +57,15 @@ fn model(cx: Ctx, label: &str) -> (BinaryLooks, StopCosts) {
     (looks, costs)
 }
 
-/// Verify the sighting `d` of class `label` from `prior` (module docs).
+/// Verify candidate `c` from its prior (module docs).
 pub(crate) fn sequential<R: Robot + ?Sized>(
     cx: Ctx,
     mem: &mut Memory,
     body: &mut Body<R>,
     run: &mut Run,
-    label: &str,
-    d: &Detection,
-    prior: f64,
+    c: &CandidateRef,
 ) -> Result<Verdict, AgentError> {
+    let (label, d, prior) = (c.label, c.sighting, c.prior);
     let (model, costs) = model(cx, label);
     // A detector that fires as often on nothing as on the object proves nothing: no looks.
     let budget = if model.is_valid() {
@@ -90,7 +89,7 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
             reach: None,
         });
     }
-    let Some(mut closer) = approach(cx, mem, body, run, label, d)? else {
+    let Some(mut closer) = approach(cx, mem, body, run, c)? else {
         return Ok(Verdict::rejected("the class is not in the knowledge file"));
     };
     let (mut hits, mut looks) = (0, 0);
