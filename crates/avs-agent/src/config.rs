@@ -474,7 +474,8 @@ pub struct Tuning {
     /// Share of a room a look-around from one place is taken to cover (the count evidence of
     /// `observe_objects` is thinned by it).
     pub look_coverage: f64,
-    /// How far past a placeholder the robot goes when entering it, metres.
+    /// How far past the door a robot entering a placeholder stops, and how far it may then go
+    /// on into the space beyond, metres.
     pub enter_depth: f64,
     /// Height of small objects searched in a room when the knowledge puts them on no
     /// landmark class, metres (table height plus a few centimetres).
@@ -513,11 +514,6 @@ pub struct Tuning {
     pub on_slack: f64,
     /// Floor of the DT session's prior for an object the plan assumes in the location.
     pub assumed_prior: f64,
-    /// Placeholders of a newly entered room the robot visits at most.
-    pub room_explore_steps: usize,
-    /// How far from where it entered a room the robot looks for the room's placeholders,
-    /// metres.
-    pub room_explore_radius: f64,
     /// A verifying look confirms a sighting when it sees the class this close to it, metres.
     pub confirm_radius: f64,
     /// Looks at most of the `count` verification rule.
@@ -587,8 +583,6 @@ impl Default for Tuning {
             surface_z_tolerance: 0.1,
             on_slack: 0.3,
             assumed_prior: 0.8,
-            room_explore_steps: 3,
-            room_explore_radius: 4.0,
             confirm_radius: 0.6,
             verify_looks: 3,
             verify_hits: 2,

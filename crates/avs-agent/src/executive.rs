@@ -526,6 +526,39 @@ fn passing_point(mem: &Memory, here: avs_robot::Pose2D, via: [f64; 2], end: [f64
     .unwrap_or(via)
 }
 
+/// Where a robot at `here` entering the placeholder at `target` stops: `depth` metres along
+/// its shortest known path past the last door hypothesis that path crosses, or the
+/// placeholder itself (no door on the way, or the placeholder nearer than that).
+///
+/// A placeholder is a frontier: where the laser, looking through the door from outside, last
+/// saw free space — often the far wall of the room behind. The room is what the MOVE is for,
+/// and a robot a step inside its door sees it (the laser all around, the look-around's pan);
+/// driving on to the far wall and back out is travel the plan's cost never meant. The
+/// entering skill ([`enter`]) goes on from there into the space that reveals most.
+fn entry_point(mem: &Memory, here: [f64; 2], target: [f64; 2], depth: f64) -> [f64; 2] {
+    let Some(path) = mem.with_trav(false, |t| avs_map::nav::shortest_path(t, here, target, 1.0))
+    else {
+        return target;
+    };
+    let pts = &path.points;
+    let doors = &mem.wm.places.doors;
+    let Some(k) = (1..pts.len()).rev().find(|&k| {
+        doors
+            .iter()
+            .any(|d| d.hypothesis.crossed_by(pts[k - 1], pts[k]))
+    }) else {
+        return target;
+    };
+    let mut along = 0.0;
+    for w in pts[k - 1..].windows(2) {
+        along += dist(w[0], w[1]);
+        if along >= depth {
+            return w[1];
+        }
+    }
+    target
+}
+
 /// Execute step `i` of `plan`, read as `action`.
 #[expect(
     clippy::too_many_arguments,
@@ -608,7 +641,13 @@ fn go<R: Robot + ?Sized>(
     entering: bool,
 ) -> Result<StepEnd, AgentError> {
     let from_room = mem.current_room();
-    if let Err(e) = body.go_to(mem, pos)? {
+    let goal = if entering {
+        let here = body.at();
+        entry_point(mem, here, pos, cx.tuning().enter_depth)
+    } else {
+        pos
+    };
+    if let Err(e) = body.go_to(mem, goal)? {
         if e.is_unreachable() {
             mem.mark_unreachable(to.target, to.pos, from_room);
         }
@@ -719,6 +758,96 @@ mod tests {
         assert!((p[0] - via[0]).abs() < 0.3 && p[1] < 1.5, "{p:?}");
         // Without a way to the end, the place itself.
         assert_eq!(passing_point(&mem, here, via, [50.0, 50.0]), via);
+    }
+
+    /// Two 4 m × 4 m rooms side by side, a 0.9 m door at x = 4 m, the robot in the west one
+    /// with a laser that sees through the door: the memory knows the door hypothesis.
+    fn two_rooms() -> (AgentConfig, Knowledge, avs_robot::ScriptedRobot) {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        let mut truth = testing::room(8.0, 4.0);
+        for row in 0..40 {
+            if !(16..25).contains(&row) {
+                truth.set(40, row, avs_map::grid::Cell::Occupied);
+            }
+        }
+        let robot = avs_robot::ScriptedRobot::with_laser(
+            truth,
+            6.0,
+            avs_robot::Pose2D::new(2.0, 2.0, 0.0),
+            avs_robot::Camera::default(),
+        );
+        (config, k, robot)
+    }
+
+    #[test]
+    fn entering_a_placeholder_stops_a_step_past_the_last_door_on_the_way() {
+        let (config, k, mut robot) = two_rooms();
+        let mem = testing::memory(&config, &k, &mut robot);
+        assert!(
+            mem.wm
+                .places
+                .doors
+                .iter()
+                .any(|d| (d.hypothesis.center[0] - 4.0).abs() < 0.3),
+            "the door is a hypothesis: {:?}",
+            mem.wm.places.doors
+        );
+        let depth = config.tuning.enter_depth;
+        // A frontier at the east room's far wall: the robot stops `depth` past the door.
+        let p = entry_point(&mem, [2.0, 2.0], [7.5, 2.0], depth);
+        assert!(
+            p[0] > 4.0 + depth - 0.2 && p[0] < 4.0 + depth + 0.3,
+            "{p:?}: not a step past the door"
+        );
+        // A frontier just past the door is the stop itself.
+        assert_eq!(entry_point(&mem, [2.0, 2.0], [4.8, 2.0], depth), [4.8, 2.0]);
+        // No door on the way: the target.
+        assert_eq!(entry_point(&mem, [2.0, 2.0], [3.0, 3.0], depth), [3.0, 3.0]);
+    }
+
+    /// The robot is told to enter a placeholder in the east room's far corner: it stops inside
+    /// the door, does not drive to the corner (the room is seen whole from there), and the
+    /// placeholder leads to the east room.
+    #[test]
+    fn a_room_seen_whole_from_inside_its_door_is_not_driven_into() {
+        let (config, k, mut robot) = two_rooms();
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let from = mem.current_room().expect("a room");
+        let binding = Binding::of(&mem, &k, "cerealbox");
+        let (id, pos) = mem
+            .phs
+            .iter()
+            .map(|(i, c)| (mem.registry[*i].id, c.pos))
+            .filter(|(_, p)| p[0] > 4.2)
+            .max_by(|a, b| a.1[0].total_cmp(&b.1[0]))
+            .unwrap_or_else(|| panic!("no placeholder beyond the door: {:?}", mem.phs));
+        assert!(
+            pos[0] > 6.0,
+            "the frontier is deep in the east room: {pos:?}"
+        );
+        let ph = binding.placeholder_arg(id);
+        let mut sink = testing::sink();
+        let mut run = testing::run(&mut sink);
+        let cx = testing::ctx(&k, &config);
+        let mut body = Body::new(&mut robot);
+        let end = go(cx, &mut mem, &mut body, &mut run, &ph, pos, true).unwrap();
+        assert!(matches!(end, StepEnd::Continue));
+        let at = body.at();
+        assert!(
+            at[0] > 4.5 && at[0] < 4.0 + 2.0 * config.tuning.enter_depth,
+            "{at:?}"
+        );
+        assert!(
+            body.odometry() < 2.0 * (pos[0] - 2.0),
+            "{} m driven",
+            body.odometry()
+        );
+        let e = mem.registry.iter().find(|e| e.id == id).expect("tracked");
+        let led = e
+            .explored
+            .and_then(|(_, led)| led)
+            .expect("it led to a room");
+        assert_ne!(mem.wm.room_of(led), Some(from), "{}", testing::text(&run));
     }
 
     /// The shipped domain.

@@ -1,10 +1,11 @@
-//! ENTER (and EXPLORE) a placeholder: drive to it, go on into the space beyond it, turn
-//! around, and visit the new room's nearby placeholders (the assumption gives a new room no
-//! open placeholders); the placeholder then leads to the room the robot stands in if that is
-//! another room than the one it came from, else nowhere new.
+//! ENTER (and EXPLORE) a placeholder: the robot stands a step inside the door on the way to
+//! it (`executive::entry_point`); it goes on into the space beyond only where that reveals
+//! enough to hide a room, and turns around; the placeholder then leads to the room the robot
+//! stands in if that is another room than the one it came from, else nowhere new. What is
+//! left of the room (its own frontiers) is the planner's to weigh, like any placeholder.
 
 use super::Ctx;
-use crate::binding::{names, PlaceArg};
+use crate::binding::PlaceArg;
 use crate::body::Body;
 use crate::memory::{Memory, Target};
 use crate::run::Run;
@@ -13,7 +14,8 @@ use avs_concepts::RoomId;
 use avs_map::places::dist;
 use avs_robot::Robot;
 
-/// Enter the placeholder `ph` (the robot stands at it), coming from room `from_room`.
+/// Enter the placeholder `ph` (the robot stands at it or a step inside the door on the way
+/// to it), coming from room `from_room`.
 pub(crate) fn enter<R: Robot + ?Sized>(
     cx: Ctx,
     mem: &mut Memory,
@@ -46,7 +48,9 @@ pub(crate) fn enter<R: Robot + ?Sized>(
             let (ux, uy) = (dx / n, dy / n);
             // Into the space beyond: of the points `enter_depth` away with a short known
             // path, the one that reveals most (exploration utility's new area, Masuzawa &
-            // Miura eq. 6) and lies farthest from where the placeholder hangs off.
+            // Miura eq. 6) and lies farthest from where the placeholder hangs off — if any
+            // reveals as much as a placeholder needs to hide a room (`min_open_area`): a
+            // room the robot already sees whole from inside its door is not driven into.
             let grid = mem.grid.clone();
             (0..12)
                 .map(|k| {
@@ -59,10 +63,9 @@ pub(crate) fn enter<R: Robot + ?Sized>(
                     mem.path_len_within([here.x, here.y], *b, false, 1.5 * t.enter_depth)
                         .is_some()
                 })
-                .map(|b| {
-                    let score =
-                        avs_map::explore::new_area(&grid, b, t.enter_depth * 2.0) + dist(b, from);
-                    (b, score)
+                .filter_map(|b| {
+                    let area = avs_map::explore::new_area(&grid, b, t.enter_depth * 2.0);
+                    (area >= t.min_open_area).then_some((b, area + dist(b, from)))
                 })
                 .fold(None, |best: Option<([f64; 2], f64)>, (b, sc)| match best {
                     Some((_, bs)) if bs >= sc - 1e-9 => best,
@@ -77,43 +80,6 @@ pub(crate) fn enter<R: Robot + ?Sized>(
         }
     }
     body.turn_around(mem)?;
-    // Explore what is left of the room just entered (the assumption gives a new room no
-    // open placeholders): visit the nearest placeholder of this room, a few times.
-    for _ in 0..t.room_explore_steps {
-        let Some(room) = mem.current_room() else {
-            break;
-        };
-        if from_room == Some(room) {
-            break;
-        }
-        let here = body.pose();
-        let next = mem
-            .phs
-            .iter()
-            .filter(|(k, c)| {
-                mem.registry[*k].explored.is_none() && mem.room_for(c.attach) == Some(room)
-            })
-            .map(|(k, c)| (*k, c.pos))
-            .filter(|(_, p)| {
-                mem.path_len_within([here.x, here.y], *p, false, t.room_explore_radius)
-                    .is_some()
-            })
-            .min_by(|a, b| dist(a.1, [here.x, here.y]).total_cmp(&dist(b.1, [here.x, here.y])));
-        let Some((k, pos)) = next else { break };
-        let next_id = mem.registry[k].id;
-        let r = body.go_to(mem, pos)?;
-        if let Some(e) = mem.registry.iter_mut().find(|e| e.id == next_id) {
-            e.explored = Some((room.0, None));
-        }
-        match r {
-            Ok(()) => body.turn_around(mem)?,
-            Err(e) => run.observe(format!(
-                "exploring {} from {}: {e}",
-                names::room(room),
-                ph.name
-            )),
-        }
-    }
     let now = mem.current_room();
     let led = match (now, from_room) {
         (Some(n), Some(f)) if n != f => mem.current_place(),
