@@ -35,6 +35,17 @@ fn search_in(
         failures,
         ..SimRobotConfig::default()
     };
+    search_by(world, seed, robot_config, config, goal)
+}
+
+/// One search in `world` by a simulated robot configured as `robot_config`.
+fn search_by(
+    world: &World,
+    seed: u64,
+    robot_config: SimRobotConfig,
+    config: AgentConfig,
+    goal: &str,
+) -> SearchReport {
     let mut robot = SimAgentRobot::new(world, knowledge(), robot_config, seed).unwrap();
     let mut agent = Agent::new(domain(), knowledge(), config).unwrap();
     let report = agent.search(&mut robot, Goal::find(goal)).unwrap();
@@ -526,7 +537,12 @@ fn a_cerealbox_inside_a_kitchen_cupboard_is_found_by_a_search_in_the_cupboard() 
     env.robot.start.y = 5.5;
     env.robot.start.yaw_deg = 90.0;
     let world = World::new(env, path.parent().unwrap()).unwrap();
-    let r = search(&world, 1, FailureRates::default(), "cerealbox");
+    // A detector as sharp at the image's border as at its centre: what the look-around finds
+    // (the counter that makes the room a kitchen, the cupboard) is not what this test is
+    // about, and with the default falloff it misses one of the two on some seeds.
+    let mut robot_config = SimRobotConfig::default();
+    robot_config.detector.angle_falloff = 0.0;
+    let r = search_by(&world, 1, robot_config, AgentConfig::default(), "cerealbox");
     let found = r.found.as_ref().expect("the cerealbox is found");
     let err = (found.pose.x - cx + 0.1).hypot(found.pose.y - cy);
     assert!(err < 1.0, "reported {:?}, {err:.2} m off", found.pose);
