@@ -110,17 +110,14 @@
 //!   expanded every subset of them: on the default office search the hard plans took ~1800
 //!   expansions with them and ~50–100 without, the same plans.
 //! * **ENTER a placeholder** = drive towards it and stop 1.5 m past the last door hypothesis
-//!   on the way when the robot has never been through that door (`executive::entry_point`; a
-//!   door it came through leads into space it knows, such as a corridor whose far-end
-//!   frontier is the placeholder: that one is driven to); go on 1.5 m into the space beyond
-//!   (on a short known path) only where that reveals at least `min_open_area` of unknown
-//!   space, and turn around.
+//!   on the way (`executive::entry_point`); go on 1.5 m into the space beyond (on a short known
+//!   path) only where that reveals at least `min_open_area` of unknown space, and turn around.
 //!   A placeholder is a frontier — where the laser, looking in from outside, last saw free
 //!   space, often the room's far wall — and a robot a step inside the door sees the room
 //!   (laser all around, the look-around's pan). The first version drove to the frontier, on
 //!   into the space beyond, and then visited up to three of the new room's own frontiers
 //!   before looking around, and walked back out of the room's far end. Entering at the door,
-//!   on 200 bench floors the mean exploration path fell 68 → 54 m and SPL rose 0.168 → 0.227
+//!   on 200 bench floors the mean exploration path fell 68 → 54 m and SPL rose 0.168 → 0.221
 //!   (success 0.980 either way; BENCHMARKS.md). The room's own frontiers are placeholders like
 //!   any other, for the planner to weigh.
 //! * **A run of MOVE steps is a route.** The plan's MOVEs follow the place graph, whose edges
