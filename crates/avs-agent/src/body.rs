@@ -374,7 +374,7 @@ impl<'r, R: Robot + ?Sized> Body<'r, R> {
         let here = self.robot.pose();
         let from = [here.x, here.y];
         let path = mem
-            .with_trav(false, |t| shortest_path(t, from, target, 1.0))
+            .known_path(from, target)
             .or_else(|| mem.with_trav(true, |t| shortest_path(t, from, target, 1.0)));
         let mut wps: Vec<[f64; 2]> = match &path {
             Some(p) => p.points.iter().skip(1).step_by(5).copied().collect(),

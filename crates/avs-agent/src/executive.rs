@@ -515,15 +515,13 @@ fn route_end(rest: &[Result<Action, ReplanReason>]) -> Option<[f64; 2]> {
 /// where that path passes its place; the plan is monitored there as before. Without a known
 /// path, the place itself.
 fn passing_point(mem: &Memory, here: avs_robot::Pose2D, via: [f64; 2], end: [f64; 2]) -> [f64; 2] {
-    let path = mem.with_trav(false, |t| {
-        avs_map::nav::shortest_path(t, [here.x, here.y], end, 1.0)
-    });
-    path.and_then(|p| {
-        p.points
-            .into_iter()
-            .min_by(|a, b| dist(*a, via).total_cmp(&dist(*b, via)))
-    })
-    .unwrap_or(via)
+    mem.known_path([here.x, here.y], end)
+        .and_then(|p| {
+            p.points
+                .into_iter()
+                .min_by(|a, b| dist(*a, via).total_cmp(&dist(*b, via)))
+        })
+        .unwrap_or(via)
 }
 
 /// Where a robot at `here` entering the placeholder at `target` stops: `depth` metres along
@@ -542,8 +540,7 @@ fn passing_point(mem: &Memory, here: avs_robot::Pose2D, via: [f64; 2], end: [f64
 /// doors never crossed (`MapDoor::confirmed`) fixes it and was measured (BENCHMARKS.md, *Tried
 /// and reverted*); it waits on the planned verifier's look-alike case (issue 20).
 fn entry_point(mem: &Memory, here: [f64; 2], target: [f64; 2], depth: f64) -> [f64; 2] {
-    let Some(path) = mem.with_trav(false, |t| avs_map::nav::shortest_path(t, here, target, 1.0))
-    else {
+    let Some(path) = mem.known_path(here, target) else {
         return target;
     };
     let pts = &path.points;
@@ -770,14 +767,8 @@ mod tests {
     /// with a laser that sees through the door: the memory knows the door hypothesis.
     fn two_rooms() -> (AgentConfig, Knowledge, avs_robot::ScriptedRobot) {
         let (config, k) = (AgentConfig::default(), testing::knowledge());
-        let mut truth = testing::room(8.0, 4.0);
-        for row in 0..40 {
-            if !(16..25).contains(&row) {
-                truth.set(40, row, avs_map::grid::Cell::Occupied);
-            }
-        }
         let robot = avs_robot::ScriptedRobot::with_laser(
-            truth,
+            testing::two_rooms(),
             6.0,
             avs_robot::Pose2D::new(2.0, 2.0, 0.0),
             avs_robot::Camera::default(),

@@ -606,6 +606,12 @@ impl Memory {
             .collect()
     }
 
+    /// The shortest path from `from` to `to` on the known map (unknown cells blocked), goals
+    /// snapped within 1 m: the way the robot drives.
+    pub fn known_path(&self, from: [f64; 2], to: [f64; 2]) -> Option<avs_map::nav::GridPath> {
+        self.with_trav(false, |t| avs_map::nav::shortest_path(t, from, to, 1.0))
+    }
+
     /// `f` of the traversability of the known map for the robot's radius (unknown cells free
     /// or blocked), computed once per map (see `trav_cache`).
     pub fn with_trav<T>(&self, unknown_is_free: bool, f: impl FnOnce(&Traversability) -> T) -> T {

@@ -98,19 +98,12 @@ mod tests {
     use crate::binding::Binding;
     use crate::skills::testing;
     use crate::AgentConfig;
-    use avs_map::grid::Cell;
     use avs_robot::{Camera, Pose2D, ScriptedRobot};
 
     #[test]
     fn entering_a_placeholder_through_a_door_goes_beyond_it_and_files_where_it_led() {
         let (config, k) = (AgentConfig::default(), testing::knowledge());
-        // Two 4 m × 4 m rooms side by side, a 0.9 m door in the wall between them.
-        let mut truth = testing::room(8.0, 4.0);
-        for row in 0..40 {
-            if !(16..25).contains(&row) {
-                truth.set(40, row, Cell::Occupied);
-            }
-        }
+        let truth = testing::two_rooms();
         let mut robot =
             ScriptedRobot::with_laser(truth, 3.5, Pose2D::new(2.0, 2.0, 0.0), Camera::default());
         let mut mem = testing::memory(&config, &k, &mut robot);

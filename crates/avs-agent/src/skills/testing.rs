@@ -32,6 +32,18 @@ pub fn room(w: f64, h: f64) -> OccupancyGrid {
     g
 }
 
+/// Two 4 m × 4 m rooms side by side ([`room`] 8 × 4 m), a 0.9 m door in the wall between
+/// them at x = 4 m.
+pub fn two_rooms() -> OccupancyGrid {
+    let mut g = room(8.0, 4.0);
+    for row in 0..40 {
+        if !(16..25).contains(&row) {
+            g.set(40, row, Cell::Occupied);
+        }
+    }
+    g
+}
+
 /// The skills' context over a test's knowledge and configuration.
 pub fn ctx<'a>(knowledge: &'a Knowledge, config: &'a AgentConfig) -> super::Ctx<'a> {
     super::Ctx { knowledge, config }
