@@ -525,8 +525,10 @@ fn passing_point(mem: &Memory, here: avs_robot::Pose2D, via: [f64; 2], end: [f64
 }
 
 /// Where a robot at `here` entering the placeholder at `target` stops: `depth` metres along
-/// its shortest known path past the last door hypothesis that path crosses, or the
-/// placeholder itself (no door on the way, or the placeholder nearer than that).
+/// its shortest known path past the last door hypothesis that path crosses, when the robot has
+/// never been through that door (the space behind it is new); else the placeholder itself (no
+/// door on the way, a door into space the robot has been in — a frontier at the far end of a
+/// corridor it came along — or the placeholder nearer than that).
 ///
 /// A placeholder is a frontier: where the laser, looking through the door from outside, last
 /// saw free space — often the far wall of the room behind. The room is what the MOVE is for,
@@ -534,24 +536,26 @@ fn passing_point(mem: &Memory, here: avs_robot::Pose2D, via: [f64; 2], end: [f64
 /// driving on to the far wall and back out is travel the plan's cost never meant. The
 /// entering skill ([`enter`]) goes on from there into the space that reveals most.
 ///
-/// Known limitation: the last door on the way may be one the robot came through (a placeholder
-/// at the far end of the corridor it came along, seen from an office): the robot then stops a
-/// step into the corridor and the placeholder is filed as explored there. Stopping only past
-/// doors never crossed (`MapDoor::confirmed`) fixes it and was measured (BENCHMARKS.md, *Tried
-/// and reverted*); it waits on the planned verifier's look-alike case (issue 20).
+/// A door the robot has been through (`MapDoor::confirmed`) does not count: stopping past it
+/// would stop a step into a corridor the robot came along and file the placeholder at the
+/// corridor's far end as explored from its first metre.
 fn entry_point(mem: &Memory, here: [f64; 2], target: [f64; 2], depth: f64) -> [f64; 2] {
     let Some(path) = mem.known_path(here, target) else {
         return target;
     };
     let pts = &path.points;
     let doors = &mem.wm.places.doors;
-    let Some(k) = (1..pts.len()).rev().find(|&k| {
+    let crossed = |k: usize| {
         doors
             .iter()
-            .any(|d| d.hypothesis.crossed_by(pts[k - 1], pts[k]))
-    }) else {
+            .filter(move |d| d.hypothesis.crossed_by(pts[k - 1], pts[k]))
+    };
+    let Some(k) = (1..pts.len()).rev().find(|&k| crossed(k).next().is_some()) else {
         return target;
     };
+    if crossed(k).all(|d| d.confirmed) {
+        return target;
+    }
     let mut along = 0.0;
     for w in pts[k - 1..].windows(2) {
         along += dist(w[0], w[1]);
@@ -800,6 +804,13 @@ mod tests {
         assert_eq!(entry_point(&mem, [2.0, 2.0], [4.8, 2.0], depth), [4.8, 2.0]);
         // No door on the way: the target.
         assert_eq!(entry_point(&mem, [2.0, 2.0], [3.0, 3.0], depth), [3.0, 3.0]);
+        // Through a door the robot has been through (into space it knows, say a corridor it
+        // came along, to a frontier at its far end): the target.
+        let mut mem = mem;
+        for d in &mut mem.wm.places.doors {
+            d.confirmed = true;
+        }
+        assert_eq!(entry_point(&mem, [2.0, 2.0], [7.5, 2.0], depth), [7.5, 2.0]);
     }
 
     /// The robot is told to enter a placeholder in the east room's far corner: it stops inside

@@ -110,7 +110,9 @@
 //!   expanded every subset of them: on the default office search the hard plans took ~1800
 //!   expansions with them and ~50–100 without, the same plans.
 //! * **ENTER a placeholder** = drive towards it and stop 1.5 m past the last door hypothesis
-//!   on the way (`executive::entry_point`); go on 1.5 m into the space beyond (on a short known
+//!   on the way that the robot has never been through (`executive::entry_point`; past a door
+//!   it came through, a corridor's far end would be filed as explored from its first metre);
+//!   go on 1.5 m into the space beyond (on a short known
 //!   path) only where that reveals at least `min_open_area` of unknown space, and turn around.
 //!   A placeholder is a frontier — where the laser, looking in from outside, last saw free
 //!   space, often the room's far wall — and a robot a step inside the door sees the room

@@ -225,6 +225,7 @@ fn fit_hypothesis(
     let initial = SeKernel {
         signal_variance: var_y.max(1e-3),
         length_scales: vec![0.3 * opt.max_range, 0.5 * lim],
+        angular: crate::vantage::ANGULAR.to_vec(),
     };
     let bounds = FitBounds {
         signal_variance: [1e-4, 1e3],
@@ -292,6 +293,7 @@ fn fit_hypothesis(
         let k = SeKernel {
             signal_variance: field_var,
             length_scales: vec![lr, la],
+            angular: crate::vantage::ANGULAR.to_vec(),
         };
         let mut total = 0.0;
         for (x, r) in &groups {

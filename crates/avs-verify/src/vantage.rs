@@ -6,6 +6,7 @@
 //! the angle between the object's facing (the normal of a door or a sign) and the direction from
 //! the object to the robot: 0 straight in front, ±π/2 edge-on, ±π from behind.
 
+use crate::gp::SeKernel;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -53,11 +54,22 @@ impl Vantage {
         ]
     }
 
-    /// The GP input of this vantage point: `[range, aspect]`.
+    /// The GP input of this vantage point: `[range, aspect]`; the aspect is an angle
+    /// ([`ANGULAR`]).
     pub fn features(&self) -> [f64; 2] {
         [self.range, self.aspect]
     }
+
+    /// `kernel` as a kernel over vantage points: its second input, the aspect, an angle
+    /// ([`SeKernel::angular`]), so that two looks from either side of the bearing ±π (a robot
+    /// west of a candidate whose facing is unknown, measured from +x) are as near as they are.
+    pub fn kernel(kernel: SeKernel) -> SeKernel {
+        kernel.with_angular(&ANGULAR)
+    }
 }
+
+/// Which of a vantage point's GP inputs ([`Vantage::features`]) are angles: the aspect.
+pub const ANGULAR: [bool; 2] = [false, true];
 
 /// An angle wrapped into (−π, π].
 pub fn wrap(a: f64) -> f64 {

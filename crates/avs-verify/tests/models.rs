@@ -115,6 +115,41 @@ fn a_look_from_a_new_vantage_point_counts_again() {
 }
 
 #[test]
+fn a_look_from_just_across_the_bearing_pi_is_as_near_as_it_is() {
+    // An all-round class whose facing is unknown: the aspect is the bearing from +x, and a
+    // robot west of the candidate sees it at an aspect near ±π. Two looks 0.04 rad apart are
+    // two looks 0.04 rad apart, whichever side of the seam they fall on.
+    let m = SensorModel::from_spec(&SensorModelSpec {
+        kind: DYNAMIC,
+        max_range: 6.0,
+        aspect_limit: None,
+        object: hypothesis(2.0),
+        no_object: hypothesis(0.8),
+    })
+    .unwrap();
+    let v = Vantage::new(2.0, 3.12);
+    let c1 = m
+        .condition(&[Look {
+            vantage: v,
+            score: 1.9,
+        }])
+        .unwrap();
+    let p1 = m.condition(&[]).unwrap().update(0.5, &v, 1.9);
+    let across = c1.update(p1, &Vantage::new(2.0, 3.12 + 0.04), 1.9) - p1;
+    let this_side = c1.update(p1, &Vantage::new(2.0, 3.12 - 0.04), 1.9) - p1;
+    assert!(
+        (across - this_side).abs() < 0.01 * this_side.abs(),
+        "across {across}, this side {this_side}"
+    );
+    // And both are a repeat, far less news than a fresh vantage point.
+    let fresh = c1.update(p1, &Vantage::new(4.5, 0.0), 1.9) - p1;
+    assert!(
+        across.abs() < 0.35 * fresh,
+        "across {across}, fresh {fresh}"
+    );
+}
+
+#[test]
 fn the_field_vanishes_where_the_robot_already_looked_and_not_elsewhere() {
     // Velez et al. §5.4: as looks from one vantage point accumulate, its information goes to 0.
     let grid = VantageGrid::regular([1.0, 6.0], 6, 1.2, 7);

@@ -251,6 +251,7 @@ pub fn eval_case(case: &GpCase, seed: u64) -> Result<GpCaseResult, GpError> {
         } else {
             case.length_scale.clone()
         },
+        angular: Vec::new(),
     };
     let (x, y, alpha) = (case.x.clone(), case.y.clone(), case.noise_variance_alpha);
     let gp = match (case.fitted, shared, case.bounds.as_ref()) {

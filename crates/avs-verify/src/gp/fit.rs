@@ -103,7 +103,7 @@ impl Gp {
 }
 
 /// The kernel of log parameters `theta` for `dim` inputs.
-fn kernel_of(theta: &[f64], dim: usize, tying: Tying) -> SeKernel {
+fn kernel_of(theta: &[f64], dim: usize, tying: Tying, angular: &[bool]) -> SeKernel {
     let length_scales = match tying {
         Tying::PerInput => theta[1..].iter().map(|t| t.exp()).collect(),
         Tying::Shared => vec![theta[1].exp(); dim],
@@ -111,6 +111,7 @@ fn kernel_of(theta: &[f64], dim: usize, tying: Tying) -> SeKernel {
     SeKernel {
         signal_variance: theta[0].exp(),
         length_scales,
+        angular: angular.to_vec(),
     }
 }
 
@@ -161,7 +162,7 @@ fn fit(
 
     // Minimise −log p(y | X, θ).
     let objective = |theta: &[f64]| -> Option<(f64, Vec<f64>)> {
-        let kernel = kernel_of(theta, dim, tying);
+        let kernel = kernel_of(theta, dim, tying, &initial.angular);
         let factor = factorise(&kernel, noise_variance, &x, &y).ok()?;
         let g = lml_gradient(&kernel, &x, &factor);
         let grad = match tying {
@@ -180,5 +181,10 @@ fn fit(
         }
     }
     let best = best.ok_or(GpError::FitFailed { n: x.len() })?;
-    Gp::new(kernel_of(&best.x, dim, tying), noise_variance, x, y)
+    Gp::new(
+        kernel_of(&best.x, dim, tying, &initial.angular),
+        noise_variance,
+        x,
+        y,
+    )
 }

@@ -10,7 +10,7 @@ use super::GpError;
 ///
 /// ```
 /// use avs_verify::gp::SeKernel;
-/// let k = SeKernel { signal_variance: 2.0, length_scales: vec![1.0, 10.0] };
+/// let k = SeKernel { signal_variance: 2.0, length_scales: vec![1.0, 10.0], angular: vec![] };
 /// assert_eq!(k.dim(), 2);
 /// assert_eq!(k.eval(&[0.0, 0.0], &[0.0, 0.0]), 2.0);
 /// // One length scale away along the first input: σ² · e^{−½}.
@@ -22,6 +22,14 @@ pub struct SeKernel {
     pub signal_variance: f64,
     /// `l_d`, one per input dimension, in the inputs' units.
     pub length_scales: Vec<f64>,
+    /// Which inputs are angles (radians): `angular[d]` true makes input `d`'s difference the
+    /// chord `2 sin(Δ/2)` of the unit circle instead of `Δ`, so that the kernel has no seam at
+    /// ±π (−3.1 and 3.1 rad are 0.08 rad apart, not 6.2) and stays positive definite: it is
+    /// the squared-exponential kernel of the point `(cos φ, sin φ)` on the circle (MacKay's
+    /// periodic kernel, `exp(−2 sin²(Δ/2) / l²)`). For small differences the chord is `Δ`.
+    /// Missing entries (an empty vector, the default) are ordinary inputs.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub angular: Vec<bool>,
 }
 
 impl From<&avs_format::verifier::KernelSpec> for SeKernel {
@@ -29,6 +37,7 @@ impl From<&avs_format::verifier::KernelSpec> for SeKernel {
         SeKernel {
             signal_variance: k.signal_variance,
             length_scales: k.length_scales.clone(),
+            angular: Vec::new(),
         }
     }
 }
@@ -48,6 +57,7 @@ impl SeKernel {
         SeKernel {
             signal_variance,
             length_scales: vec![length_scale; dim],
+            angular: Vec::new(),
         }
     }
 
@@ -64,13 +74,31 @@ impl SeKernel {
         self.length_scales.len()
     }
 
-    /// `Σ_d (a_d − b_d)² / l_d²`.
+    /// This kernel with input `d` an angle for every `d` where `angular[d]` (see
+    /// [`SeKernel::angular`]).
+    pub fn with_angular(mut self, angular: &[bool]) -> SeKernel {
+        self.angular = angular.to_vec();
+        self
+    }
+
+    /// The difference of input `d` between `x` and `y`: `x − y`, or for an angle the chord
+    /// `2 sin((x − y)/2)`.
+    pub(crate) fn diff(&self, d: usize, x: f64, y: f64) -> f64 {
+        if self.angular.get(d).copied().unwrap_or(false) {
+            2.0 * (0.5 * (x - y)).sin()
+        } else {
+            x - y
+        }
+    }
+
+    /// `Σ_d δ_d(a, b)² / l_d²`, `δ_d` the difference of input `d` ([`SeKernel::diff`]).
     pub(crate) fn scaled_sq_dist(&self, a: &[f64], b: &[f64]) -> f64 {
         a.iter()
             .zip(b)
             .zip(&self.length_scales)
-            .map(|((x, y), l)| {
-                let r = (x - y) / l;
+            .enumerate()
+            .map(|(d, ((&x, &y), l))| {
+                let r = self.diff(d, x, y) / l;
                 r * r
             })
             .sum()

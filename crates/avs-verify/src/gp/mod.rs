@@ -57,7 +57,7 @@
 //!
 //! let x: Vec<Vec<f64>> = (0..8).map(|i| vec![i as f64]).collect();
 //! let y: Vec<f64> = x.iter().map(|p| p[0].sin()).collect();
-//! let kernel = SeKernel { signal_variance: 1.0, length_scales: vec![1.0] };
+//! let kernel = SeKernel { signal_variance: 1.0, length_scales: vec![1.0], angular: vec![] };
 //! let gp = Gp::new(kernel.clone(), 1e-6, x.clone(), y.clone())?;
 //!
 //! // Between training points the mean follows sin, with a small variance.
@@ -287,7 +287,7 @@ fn lml_gradient(kernel: &SeKernel, x: &[Vec<f64>], f: &Factor) -> Vec<f64> {
             grad[0] += wk;
             if i != j {
                 for d in 0..dim {
-                    let r = x[i][d] - x[j][d];
+                    let r = kernel.diff(d, x[i][d], x[j][d]);
                     grad[1 + d] += wk * r * r * inv_l2[d];
                 }
             }

@@ -2,6 +2,7 @@ use super::cases::{MAX_DIM, MAX_FIT_POINTS};
 use super::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use std::f64::consts::PI;
 
 fn random_data(rng: &mut ChaCha8Rng, n: usize, dim: usize) -> (Vec<Vec<f64>>, Vec<f64>) {
     let x: Vec<Vec<f64>> = (0..n)
@@ -15,9 +16,20 @@ fn random_data(rng: &mut ChaCha8Rng, n: usize, dim: usize) -> (Vec<Vec<f64>>, Ve
 }
 
 fn lml_at(log_params: &[f64], noise: f64, x: &[Vec<f64>], y: &[f64]) -> f64 {
+    lml_at_angular(log_params, &[], noise, x, y)
+}
+
+fn lml_at_angular(
+    log_params: &[f64],
+    angular: &[bool],
+    noise: f64,
+    x: &[Vec<f64>],
+    y: &[f64],
+) -> f64 {
     let kernel = SeKernel {
         signal_variance: log_params[0].exp(),
         length_scales: log_params[1..].iter().map(|t| t.exp()).collect(),
+        angular: angular.to_vec(),
     };
     Gp::new(kernel, noise, x.to_vec(), y.to_vec())
         .unwrap()
@@ -38,11 +50,14 @@ fn the_gradient_matches_central_differences() {
         let dim = 1 + trial % 3;
         let (x, y) = random_data(&mut rng, 12 + trial, dim);
         let theta: Vec<f64> = (0..=dim).map(|_| rng.gen_range(-1.0..1.0)).collect();
+        // Every other trial has an angle for its last input (the chord difference).
+        let angular: Vec<bool> = (0..dim).map(|d| trial % 2 == 1 && d + 1 == dim).collect();
         let noise = 0.05;
         let gp = Gp::new(
             SeKernel {
                 signal_variance: theta[0].exp(),
                 length_scales: theta[1..].iter().map(|t| t.exp()).collect(),
+                angular: angular.clone(),
             },
             noise,
             x.clone(),
@@ -57,7 +72,9 @@ fn the_gradient_matches_central_differences() {
             let mut down = theta.clone();
             up[k] += h;
             down[k] -= h;
-            let fd = (lml_at(&up, noise, &x, &y) - lml_at(&down, noise, &x, &y)) / (2.0 * h);
+            let fd = (lml_at_angular(&up, &angular, noise, &x, &y)
+                - lml_at_angular(&down, &angular, noise, &x, &y))
+                / (2.0 * h);
             assert!(
                 (g[k] - fd).abs() <= 1e-6 * fd.abs().max(1.0),
                 "trial {trial}, component {k}: analytic {} vs finite difference {fd}",
@@ -71,7 +88,9 @@ fn the_gradient_matches_central_differences() {
                 .chain(theta[1..].iter().map(|v| v + t))
                 .collect()
         };
-        let fd = (lml_at(&shift(h), noise, &x, &y) - lml_at(&shift(-h), noise, &x, &y)) / (2.0 * h);
+        let fd = (lml_at_angular(&shift(h), &angular, noise, &x, &y)
+            - lml_at_angular(&shift(-h), &angular, noise, &x, &y))
+            / (2.0 * h);
         assert!(
             (iso[1] - fd).abs() <= 1e-6 * fd.abs().max(1.0),
             "{iso:?} vs {fd}"
@@ -107,6 +126,7 @@ fn far_from_the_data_the_prediction_is_the_prior() {
     let kernel = SeKernel {
         signal_variance: 2.5,
         length_scales: vec![0.5, 1.0, 2.0],
+        angular: Vec::new(),
     };
     let gp = Gp::new(kernel.clone(), 1e-3, x, y).unwrap();
     let (m, v) = gp.predict(&[100.0, -100.0, 100.0]);
@@ -132,6 +152,7 @@ fn batch_prediction_and_incremental_conditioning_agree() {
     let kernel = SeKernel {
         signal_variance: 1.0,
         length_scales: vec![0.7, 1.3],
+        angular: Vec::new(),
     };
     let all = Gp::new(kernel.clone(), 0.01, x.clone(), y.clone()).unwrap();
     let mut inc = Gp::prior(kernel, 0.01).unwrap();
@@ -183,6 +204,7 @@ fn fit_reaches_the_best_likelihood_on_a_grid() {
     let init = SeKernel {
         signal_variance: 1.0,
         length_scales: vec![1.0],
+        angular: Vec::new(),
     };
     let gp = Gp::fit(x.clone(), y.clone(), noise, &init, &bounds(), 0, 0).unwrap();
     let (lo, hi) = (1e-2f64.ln(), 1e2f64.ln());
@@ -196,6 +218,7 @@ fn fit_reaches_the_best_likelihood_on_a_grid() {
             let kernel = SeKernel {
                 signal_variance: t[0].exp(),
                 length_scales: vec![t[1].exp()],
+                angular: Vec::new(),
             };
             if let Ok(g) = Gp::new(kernel, noise, x.clone(), y.clone()) {
                 best = best.max(g.log_marginal_likelihood());
@@ -222,6 +245,7 @@ fn an_optimum_beyond_a_bound_stops_on_the_bound() {
     let init = SeKernel {
         signal_variance: 1.0,
         length_scales: vec![0.1],
+        angular: Vec::new(),
     };
     for fit in [Gp::fit, Gp::fit_isotropic] {
         let gp = fit(x.clone(), y.clone(), 1e-4, &init, &b, 3, 1).unwrap();
@@ -239,6 +263,7 @@ fn isotropic_fit_shares_one_length_scale() {
     let init = SeKernel {
         signal_variance: 1.0,
         length_scales: vec![0.5, 1.0, 2.0],
+        angular: Vec::new(),
     };
     let iso = Gp::fit_isotropic(x.clone(), y.clone(), 1e-2, &init, &bounds(), 2, 4).unwrap();
     let ls = &iso.kernel().length_scales;
@@ -255,6 +280,7 @@ fn bad_inputs_are_typed_errors() {
     let k1 = SeKernel {
         signal_variance: 1.0,
         length_scales: vec![1.0],
+        angular: Vec::new(),
     };
     let x = vec![vec![0.0], vec![1.0]];
     let y = vec![0.0, 1.0];
@@ -283,6 +309,7 @@ fn bad_inputs_are_typed_errors() {
     let zero_l = SeKernel {
         signal_variance: 1.0,
         length_scales: vec![0.0],
+        angular: Vec::new(),
     };
     let e = new(&zero_l, 0.1, x.clone(), y.clone());
     assert!(matches!(e, GpError::NonPositive { ref what, .. } if what == "length_scales[0]"));
@@ -290,6 +317,7 @@ fn bad_inputs_are_typed_errors() {
     let nan_sv = SeKernel {
         signal_variance: f64::NAN,
         length_scales: vec![1.0],
+        angular: Vec::new(),
     };
     assert!(matches!(
         new(&nan_sv, 0.1, x.clone(), y.clone()),
@@ -298,6 +326,7 @@ fn bad_inputs_are_typed_errors() {
     let no_inputs = SeKernel {
         signal_variance: 1.0,
         length_scales: vec![],
+        angular: Vec::new(),
     };
     assert_eq!(new(&no_inputs, 0.1, vec![], vec![]), GpError::NoInputs);
     assert!(matches!(
@@ -428,6 +457,7 @@ fn the_blocked_triangular_solve_matches_forward_substitution() {
         SeKernel {
             signal_variance: theta[0].exp(),
             length_scales: vec![theta[1].exp(), theta[2].exp()],
+            angular: Vec::new(),
         },
         0.05,
         x.clone(),
@@ -454,6 +484,7 @@ fn the_mean_alone_is_the_mean_of_predict() {
     let k = SeKernel {
         signal_variance: 1.3,
         length_scales: vec![0.7, 2.0],
+        angular: Vec::new(),
     };
     let x = vec![
         vec![0.0, 0.0],
@@ -466,4 +497,31 @@ fn the_mean_alone_is_the_mean_of_predict() {
     for q in [[0.2, 0.1], [1.5, -0.5], [5.0, 5.0]] {
         assert!((gp.predict_mean(&q) - gp.predict(&q).0).abs() < 1e-12);
     }
+}
+
+#[test]
+fn an_angular_input_has_no_seam_at_plus_minus_pi() {
+    let k = SeKernel {
+        signal_variance: 1.0,
+        length_scales: vec![1.0, 0.3],
+        angular: vec![false, true],
+    };
+    // 3.1 and −3.1 rad are 0.083 rad apart on the circle: as correlated as 0.0 and 0.083.
+    let across = k.eval(&[1.0, 3.1], &[1.0, -3.1]);
+    let near = k.eval(&[1.0, 0.0], &[1.0, 2.0 * PI - 6.2]);
+    assert!(
+        (across - near).abs() < 1e-12 && across > 0.9,
+        "{across} vs {near}"
+    );
+    // A full turn is no difference at all; the linear input is unchanged.
+    assert!((k.eval(&[0.0, 0.5], &[0.0, 0.5 + 2.0 * PI]) - 1.0).abs() < 1e-12);
+    let plain = SeKernel {
+        angular: vec![],
+        ..k.clone()
+    };
+    assert!(plain.eval(&[1.0, 3.1], &[1.0, -3.1]) < 1e-50);
+    assert_eq!(
+        k.eval(&[0.0, 1.0], &[2.0, 1.0]),
+        plain.eval(&[0.0, 1.0], &[2.0, 1.0])
+    );
 }

@@ -253,6 +253,7 @@ mod tests {
         let k = SeKernel {
             signal_variance: 0.1,
             length_scales: vec![1.0, 0.5],
+            angular: crate::vantage::ANGULAR.to_vec(),
         };
         let pts = [(Vantage::new(1.0, 0.0), 1.0)];
         let ind = ScoreGp::new(1.0, k.clone(), 0.01, 0.3, &pts).unwrap();
