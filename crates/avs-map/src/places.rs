@@ -9,7 +9,8 @@
 //! * **Doors** are the hypotheses of [`crate::doors::detect_doors`], run on an optimistic copy of
 //!   the known grid (unknown taken as free, so a doorway seen from one side qualifies) and kept
 //!   when the opening has been seen and sits in a wall ([`in_a_wall`]: the obstacle continues
-//!   along the opening's line beyond both jambs — the gap between a table and a wall does not).
+//!   along the opening's line beyond both jambs, and each jamb is part of an obstacle at least
+//!   [`WALL_SPAN`] long — the gap between a table and a wall is neither).
 //!   When the robot's motion crosses an opening the door is *confirmed*: a door place is put at
 //!   its centre, places dropped in the doorway before are absorbed into it, and earlier paths
 //!   across the opening (or the wall within a metre of it) are cut, so every way through runs
@@ -617,9 +618,11 @@ impl PlaceMap {
 }
 
 /// Whether a door hypothesis sits in a wall: beyond each jamb, along the opening's line, the
-/// obstacle continues for at least `WALL_RUN` metres (unknown cells allowed). Gaps between a
-/// piece of furniture and a wall running across the opening fail this, which removes the most
-/// common false door of narrow-opening detectors.
+/// obstacle continues for at least `WALL_RUN` metres (unknown cells allowed), and each jamb
+/// belongs to an obstacle that spans at least [`WALL_SPAN`] ([`spans`]). Gaps between a
+/// piece of furniture and a wall running across the opening fail the first; gaps beside
+/// free-standing furniture whose side runs along the opening (a table's long edge) fail the
+/// second — the most common false doors of narrow-opening detectors.
 pub fn in_a_wall(known: &OccupancyGrid, h: &DoorHypothesis) -> bool {
     const WALL_RUN: f64 = 0.3;
     let [a, b] = h.jambs;
@@ -637,7 +640,54 @@ pub fn in_a_wall(known: &OccupancyGrid, h: &DoorHypothesis) -> bool {
             known.get_i(c, r) != Cell::Free
         })
     };
-    runs(a, -1.0) && runs(b, 1.0)
+    runs(a, -1.0) && runs(b, 1.0) && spans(known, a, WALL_SPAN) && spans(known, b, WALL_SPAN)
+}
+
+/// How far (metres) the obstacle holding a door's jamb must extend for the door to be in a
+/// wall: twice the widest door the knowledge allows by default (1.2 m). The walls of a building
+/// are one connected obstacle, and a wall the robot has only partly seen runs on into unknown
+/// space; free-standing furniture (a 1.2 m table, a 1.6 m desk) is an obstacle of its own,
+/// shorter than that. An island longer than 2.4 m (a kitchen counter standing free) passes: a
+/// gap beside it can still be taken for a door.
+pub const WALL_SPAN: f64 = 2.4;
+
+/// Whether the obstacle at `p` — the connected non-free cells (occupied or unknown, 8-connected)
+/// around the cell at `p`, or the nearest non-free cell within one cell — extends at least
+/// `span` metres along x or y, or reaches the grid's border. The flood stops as soon as it
+/// knows, so a long wall costs a flood of about `span` around the jamb.
+pub fn spans(known: &OccupancyGrid, p: [f64; 2], span: f64) -> bool {
+    let (c0, r0) = known.world_to_cell(p[0], p[1]);
+    let non_free = |c: i64, r: i64| !known.contains(c, r) || known.get_i(c, r) != Cell::Free;
+    let start = (-1..=1)
+        .flat_map(|dr| (-1..=1).map(move |dc| (c0 + dc, r0 + dr)))
+        .filter(|&(c, r)| non_free(c, r))
+        .min_by_key(|&(c, r)| (c - c0).abs() + (r - r0).abs());
+    let Some(start) = start else {
+        return false;
+    };
+    let need = (span / known.resolution()).ceil() as i64;
+    let mut seen = std::collections::HashSet::from([start]);
+    let mut queue = std::collections::VecDeque::from([start]);
+    let (mut lo, mut hi) = (start, start);
+    while let Some((c, r)) = queue.pop_front() {
+        if !known.contains(c, r) {
+            return true; // the obstacle runs off the map: a wall of the building
+        }
+        lo = (lo.0.min(c), lo.1.min(r));
+        hi = (hi.0.max(c), hi.1.max(r));
+        if hi.0 - lo.0 + 1 >= need || hi.1 - lo.1 + 1 >= need {
+            return true;
+        }
+        for dr in -1..=1 {
+            for dc in -1..=1 {
+                let n = (c + dc, r + dr);
+                if (dc, dr) != (0, 0) && non_free(n.0, n.1) && seen.insert(n) {
+                    queue.push_back(n);
+                }
+            }
+        }
+    }
+    false
 }
 
 /// Whether the segment `a`–`b` crosses the door's line within a metre beyond either jamb: a path
@@ -726,6 +776,35 @@ mod tests {
                 map.update(g);
             }
         }
+    }
+
+    /// A free-standing 1.2 m × 0.8 m table in the left room, 1 m from its top wall, its long
+    /// edge along the gap: a door-wide gap with a neck, but the table is an obstacle of its
+    /// own, not a wall; the doorway's jambs are the building's walls.
+    #[test]
+    fn a_gap_beside_a_free_standing_table_is_no_door_in_a_wall() {
+        let mut g = two_rooms(false);
+        // Rows 2..32 are the room (0.2–3.2 m); the table spans x 1.4–2.6 m, y 1.4–2.2 m.
+        for c in 14..26 {
+            for r in 14..22 {
+                g.set(c, r, Cell::Occupied);
+            }
+        }
+        let hyps = detect_doors(&g, &DoorParams::default());
+        let beside: Vec<&DoorHypothesis> = hyps
+            .iter()
+            .filter(|h| h.center[0] < 4.0 && (h.center[0] - 2.0).abs() < 1.0)
+            .collect();
+        assert!(!beside.is_empty(), "the detector finds the gap: {hyps:?}");
+        for h in beside {
+            assert!(!spans(&g, h.jambs[0], WALL_SPAN) || !spans(&g, h.jambs[1], WALL_SPAN));
+            assert!(!in_a_wall(&g, h), "{h:?}");
+        }
+        let door = hyps
+            .iter()
+            .find(|h| (h.center[0] - 4.3).abs() < 0.3)
+            .expect("the doorway");
+        assert!(in_a_wall(&g, door), "{door:?}");
     }
 
     #[test]

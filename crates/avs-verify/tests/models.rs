@@ -9,7 +9,7 @@ use avs_verify::field::{perception_field, value, FieldMethod, PreparedGrid, Vant
 use avs_verify::planner::greedy::{self, GreedyConfig};
 use avs_verify::planner::planned::{self, PlannedConfig};
 use avs_verify::planner::{Candidate, OpenPlane, Step, Terrain};
-use avs_verify::sensor::{Look, ModelKind, SensorModel};
+use avs_verify::sensor::{Conditioned, Look, ModelKind, SensorModel};
 use avs_verify::train::{HypothesisSpec, SensorModelSpec};
 use avs_verify::vantage::Vantage;
 use rand::SeedableRng;
@@ -93,17 +93,17 @@ fn a_second_identical_look_moves_the_dynamic_belief_far_less_than_the_first() {
     }
 }
 
+/// The model conditioned on one look of `score` from `v`, and the belief after it from ½.
+fn one_look(m: &SensorModel, v: Vantage, score: f64) -> (Conditioned<'_>, f64) {
+    let c = m.condition(&[Look { vantage: v, score }]).unwrap();
+    let p = m.condition(&[]).unwrap().update(0.5, &v, score);
+    (c, p)
+}
+
 #[test]
 fn a_look_from_a_new_vantage_point_counts_again() {
     let m = model(DYNAMIC);
-    let v = Vantage::new(2.0, 0.0);
-    let c1 = m
-        .condition(&[Look {
-            vantage: v,
-            score: 1.9,
-        }])
-        .unwrap();
-    let p1 = m.condition(&[]).unwrap().update(0.5, &v, 1.9);
+    let (c1, p1) = one_look(&m, Vantage::new(2.0, 0.0), 1.9);
     let far = Vantage::new(4.5, -1.0);
     let near = Vantage::new(2.1, 0.02);
     let gain_far = c1.update(p1, &far, 1.6) - p1;
@@ -127,14 +127,7 @@ fn a_look_from_just_across_the_bearing_pi_is_as_near_as_it_is() {
         no_object: hypothesis(0.8),
     })
     .unwrap();
-    let v = Vantage::new(2.0, 3.12);
-    let c1 = m
-        .condition(&[Look {
-            vantage: v,
-            score: 1.9,
-        }])
-        .unwrap();
-    let p1 = m.condition(&[]).unwrap().update(0.5, &v, 1.9);
+    let (c1, p1) = one_look(&m, Vantage::new(2.0, 3.12), 1.9);
     let across = c1.update(p1, &Vantage::new(2.0, 3.12 + 0.04), 1.9) - p1;
     let this_side = c1.update(p1, &Vantage::new(2.0, 3.12 - 0.04), 1.9) - p1;
     assert!(
