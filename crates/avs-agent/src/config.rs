@@ -29,11 +29,25 @@ pub struct AgentConfig {
     pub unfound_landmarks: bool,
     /// View-cone POMDP session settings.
     pub session: SessionOptions,
-    /// Give up after this many plans.
+    /// Give up after this many plans — or after `plans_per_room` plans for every room the
+    /// robot knows, when that is more ([`AgentConfig::plan_budget`]).
     pub max_plans: usize,
+    /// Plans the budget grows by for every room the robot knows (0: the budget is
+    /// `max_plans` whatever the building). A building is searched room by room: entering a
+    /// room settles the assumption the plan made about it (one replan), searching it and its
+    /// landmarks fails or finds (another), and a false alarm or a violated assumption in it
+    /// asks for a third. The fixed budgets were set on six-room floors, where the robot comes
+    /// to know about ten rooms (corridor segments and rooms split at doors count): 30 plans
+    /// and 250 actions are 3 and 25 per room. Fixed, they stopped the planner in the tenth
+    /// room of a thirty-room floor (BENCHMARKS.md, *Budgets that grow with the building*).
+    pub plans_per_room: usize,
     /// Give up after this many executed actions (the plans' actions; the coverage has its own
-    /// budget, `max_cover_actions`).
+    /// budget, `max_cover_actions`) — or after `actions_per_room` for every room the robot
+    /// knows, when that is more ([`AgentConfig::action_budget`]).
     pub max_actions: usize,
+    /// Actions the budget grows by for every room the robot knows (0: `max_actions`
+    /// whatever the building); see `plans_per_room`.
+    pub actions_per_room: usize,
     /// Actions the coverage may take (the baselines' whole search, or the planner's coverage
     /// before giving up): moves, explorations and views.
     pub max_cover_actions: usize,
@@ -170,7 +184,9 @@ impl Default for AgentConfig {
                 o
             },
             max_plans: 30,
+            plans_per_room: 3,
             max_actions: 250,
+            actions_per_room: 25,
             // Covering a room for a small object takes many views: for a whiteboard marker on
             // the floor, about 50–70 zoomed views per office, so two passes over a floor of
             // seven rooms need about 800. 250 stopped the coverage after three or four rooms.
@@ -694,6 +710,27 @@ impl MeasuredSensing {
 }
 
 impl AgentConfig {
+    /// The plan budget when the robot knows `rooms` rooms: `max_plans`, or `plans_per_room`
+    /// per room when that is more. It grows as the robot finds rooms, and stays bounded by
+    /// the building.
+    ///
+    /// ```
+    /// let c = avs_agent::AgentConfig::default();
+    /// assert_eq!(c.plan_budget(4), c.max_plans);
+    /// assert_eq!(c.plan_budget(40), 40 * c.plans_per_room);
+    /// ```
+    pub fn plan_budget(&self, rooms: usize) -> usize {
+        self.max_plans
+            .max(self.plans_per_room.saturating_mul(rooms))
+    }
+
+    /// The action budget when the robot knows `rooms` rooms: `max_actions`, or
+    /// `actions_per_room` per room when that is more (see [`AgentConfig::plan_budget`]).
+    pub fn action_budget(&self, rooms: usize) -> usize {
+        self.max_actions
+            .max(self.actions_per_room.saturating_mul(rooms))
+    }
+
     /// The measured sensing of `class`, when there is one.
     pub fn sensing(&self, class: &str) -> Option<&MeasuredSensing> {
         self.measured_sensing.iter().find(|m| m.class == class)

@@ -279,7 +279,7 @@ fn main_loop<R: Robot + ?Sized>(
         if let Some(r) = body.cannot_move(cx.tuning().stuck_motions) {
             return Ok(Err(r));
         }
-        if run.metrics.plans >= cx.config.max_plans {
+        if run.metrics.plans >= cx.config.plan_budget(mem.wm.rooms().count()) {
             let r = GiveUpReason::PlanBudget {
                 plans: run.metrics.plans,
                 class: goal.class.clone(),
@@ -339,7 +339,7 @@ fn main_loop<R: Robot + ?Sized>(
             if run.stop_requested() {
                 return Ok(Err(GiveUpReason::Cancelled));
             }
-            if run.metrics.actions >= cx.config.max_actions {
+            if run.metrics.actions >= cx.config.action_budget(mem.wm.rooms().count()) {
                 return Ok(Err(GiveUpReason::ActionBudget {
                     actions: run.metrics.actions,
                     class: goal.class.clone(),
@@ -995,5 +995,38 @@ mod tests {
             "{text}"
         );
         assert!(report.found.is_none());
+    }
+
+    /// With one plan allowed, but two per known room, a search of a two-room map that finds
+    /// nothing plans more than once and stops at the budget of the rooms it knows.
+    #[test]
+    fn the_plan_budget_grows_with_the_rooms_the_robot_knows() {
+        use avs_robot::{Camera, Pose2D, ScriptedRobot};
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../domains/object_search.yaml"
+        );
+        let domain = Domain::load(std::path::Path::new(path)).unwrap();
+        let mut robot = ScriptedRobot::with_laser(
+            testing::two_rooms(),
+            3.5,
+            Pose2D::new(2.0, 2.0, 0.0),
+            Camera::default(),
+        );
+        let config = AgentConfig {
+            max_plans: 1,
+            plans_per_room: 2,
+            cover_before_giving_up: false,
+            ..AgentConfig::default()
+        };
+        let mut agent = Agent::new(domain, testing::knowledge(), config.clone()).unwrap();
+        let report = agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
+        let text = crate::trace::render_text(&report.trace);
+        assert!(report.found.is_none(), "{text}");
+        assert!(report.metrics.plans > config.max_plans, "{text}");
+        if let Some(GiveUpReason::PlanBudget { plans, .. }) = &report.gave_up {
+            // Two rooms at most: the budget never went past four.
+            assert!(*plans <= config.plan_budget(2), "{text}");
+        }
     }
 }

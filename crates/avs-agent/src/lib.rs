@@ -295,9 +295,12 @@
 //!   where a real object shows with about 0.8) count only from 0.5 (`confirm_min_confidence`):
 //!   at 0.2 a mug on an office desk passed for the cerealbox. So do the sightings that make a
 //!   landmark in a look-around (faint ones only split the clusters).
-//! * **Budgets:** at most 30 plans and 250 actions per goal, and 1000 more actions for the
-//!   coverage before giving up (`max_cover_actions`; also the baselines' budget); then it
-//!   gives up and says so. (With 60 plans, misleading floors spent about 500 m re-searching
+//! * **Budgets:** at most 30 plans and 250 actions per goal — or 3 plans and 25 actions for
+//!   every room the robot knows, when that is more (`plans_per_room`, `actions_per_room`: a
+//!   building is searched room by room, and the fixed figures, set on floors where the robot
+//!   comes to know about ten rooms, stopped the planner in the tenth room of a thirty-room
+//!   floor) — and 1000 more actions for the coverage before giving up (`max_cover_actions`;
+//!   also the baselines' budget); then it gives up and says so. (With 60 plans, misleading floors spent about 500 m re-searching
 //!   the likely rooms before the coverage began; with 250 coverage actions, covering the
 //!   floor for a whiteboard marker stopped after three or four rooms.)
 //! * **Zoom in view planning.** The plan's room and landmark searches plan unzoomed views, as

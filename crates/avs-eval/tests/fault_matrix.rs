@@ -19,7 +19,13 @@ fn faults_end_within_budget_name_their_cause_and_add_no_wrong_report_without_mor
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let knowledge = load_knowledge(&root.join("knowledge/office.yaml")).unwrap();
     let domain = load_domain(&root.join("domains/object_search.yaml")).unwrap();
-    let config = AgentConfig::default();
+    // The fixed budgets (no growth with the rooms known), so that "within budget" can be
+    // checked from the run alone.
+    let config = AgentConfig {
+        plans_per_room: 0,
+        actions_per_room: 0,
+        ..AgentConfig::default()
+    };
     let params = FaultParams {
         floors: 2,
         seed: 1,

@@ -198,6 +198,7 @@ fn a_target_the_plans_missed_is_found_by_covering_before_giving_up() {
     // that follows goes through the rooms nearest first and finds the box on the office desk.
     let config = AgentConfig {
         max_plans: 1,
+        plans_per_room: 0,
         ..AgentConfig::default()
     };
     let r = search_with(&world, 1, config, "cerealbox");
@@ -251,6 +252,7 @@ fn found_more_often_than_not(
     for seed in COVERAGE_SEEDS {
         let config = AgentConfig {
             max_plans: 2,
+            plans_per_room: 0,
             ..AgentConfig::default()
         };
         let r = search_with(world, seed, config, goal);

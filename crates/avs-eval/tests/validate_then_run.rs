@@ -132,7 +132,9 @@ fn apply(env: &mut Environment, m: &Mutation) {
 fn small_budgets() -> AgentConfig {
     AgentConfig {
         max_plans: 4,
+        plans_per_room: 0,
         max_actions: 25,
+        actions_per_room: 0,
         max_cover_actions: 25,
         ..AgentConfig::default()
     }
