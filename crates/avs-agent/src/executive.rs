@@ -696,11 +696,7 @@ mod tests {
 
     #[test]
     fn an_agent_finds_an_object_in_a_known_room_with_a_scripted_robot() {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../domains/object_search.yaml"
-        );
-        let domain = Domain::load(std::path::Path::new(path)).unwrap();
+        let domain = testing::domain();
         let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
         robot.place(testing::object("cerealbox", 3.6, 2.8, 0.14));
         let mut agent = Agent::new(domain, testing::knowledge(), AgentConfig::default()).unwrap();
@@ -858,15 +854,6 @@ mod tests {
         assert_ne!(mem.wm.room_of(led), Some(from), "{}", testing::text(&run));
     }
 
-    /// The shipped domain.
-    fn domain() -> Domain {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../domains/object_search.yaml"
-        );
-        Domain::load(std::path::Path::new(path)).unwrap()
-    }
-
     #[test]
     fn a_find_all_goal_verifies_what_earlier_looks_saw_of_its_class_before_it_plans() {
         let world = || {
@@ -876,7 +863,12 @@ mod tests {
             robot
         };
         let mut robot = world();
-        let mut agent = Agent::new(domain(), testing::knowledge(), AgentConfig::default()).unwrap();
+        let mut agent = Agent::new(
+            testing::domain(),
+            testing::knowledge(),
+            AgentConfig::default(),
+        )
+        .unwrap();
         let goals = Goal::find_all(["cerealbox", "mug", "cerealbox"]);
         assert_eq!(goals.len(), 2, "duplicates are dropped");
         assert_eq!(goals[0].also, ["mug"]);
@@ -909,7 +901,12 @@ mod tests {
 
         // The same two goals on their own: the mug's search has to plan a search.
         let mut robot = world();
-        let mut agent = Agent::new(domain(), testing::knowledge(), AgentConfig::default()).unwrap();
+        let mut agent = Agent::new(
+            testing::domain(),
+            testing::knowledge(),
+            AgentConfig::default(),
+        )
+        .unwrap();
         agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
         let alone = agent.search(&mut robot, Goal::find("mug")).unwrap();
         assert!(
@@ -923,7 +920,12 @@ mod tests {
     fn an_object_the_agent_already_knows_is_reported_by_one_plan_not_planned_again_and_again() {
         let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
         robot.place(testing::object("cerealbox", 3.6, 2.8, 0.14));
-        let mut agent = Agent::new(domain(), testing::knowledge(), AgentConfig::default()).unwrap();
+        let mut agent = Agent::new(
+            testing::domain(),
+            testing::knowledge(),
+            AgentConfig::default(),
+        )
+        .unwrap();
         let first = agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
         assert!(first.found.is_some());
         // The same class again: the known cereal box is the goal's object.
@@ -944,7 +946,12 @@ mod tests {
     #[test]
     fn a_find_all_goal_naming_an_unknown_class_is_refused_naming_it() {
         let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
-        let mut agent = Agent::new(domain(), testing::knowledge(), AgentConfig::default()).unwrap();
+        let mut agent = Agent::new(
+            testing::domain(),
+            testing::knowledge(),
+            AgentConfig::default(),
+        )
+        .unwrap();
         let goals = Goal::find_all(["cerealbox", "unicorn"]);
         let e = agent.search(&mut robot, goals[0].clone()).unwrap_err();
         assert!(
@@ -955,11 +962,7 @@ mod tests {
 
     #[test]
     fn a_search_that_made_no_progress_is_not_planned_again_in_the_same_map() {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../domains/object_search.yaml"
-        );
-        let domain = Domain::load(std::path::Path::new(path)).unwrap();
+        let domain = testing::domain();
         // A detector that sees cereal boxes only from 5-6 cm: no pose in the room gives a view
         // cone that covers any point, so every search of the room looks at nothing.
         let mut k = testing::knowledge();
@@ -1002,11 +1005,7 @@ mod tests {
     #[test]
     fn the_plan_budget_grows_with_the_rooms_the_robot_knows() {
         use avs_robot::{Camera, Pose2D, ScriptedRobot};
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../domains/object_search.yaml"
-        );
-        let domain = Domain::load(std::path::Path::new(path)).unwrap();
+        let domain = testing::domain();
         let mut robot = ScriptedRobot::with_laser(
             testing::two_rooms(),
             3.5,

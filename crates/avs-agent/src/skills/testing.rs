@@ -17,6 +17,15 @@ pub fn knowledge() -> Knowledge {
     avs_format::load_yaml(std::path::Path::new(path)).expect("the shipped knowledge loads")
 }
 
+/// The shipped object-search domain.
+pub fn domain() -> avs_plan::domain::Domain {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../domains/object_search.yaml"
+    );
+    avs_plan::domain::Domain::load(std::path::Path::new(path)).expect("the shipped domain loads")
+}
+
 /// A walled room of `w` × `h` metres (0.1 m cells, origin at the outer corner), all known.
 pub fn room(w: f64, h: f64) -> OccupancyGrid {
     let (cols, rows) = ((w / 0.1).round() as usize, (h / 0.1).round() as usize);
