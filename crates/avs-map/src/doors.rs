@@ -171,6 +171,14 @@ pub struct DoorHypothesis {
 }
 
 impl DoorHypothesis {
+    /// The unit vector along the door line, from the first jamb to the second; `None` when
+    /// the jambs coincide.
+    pub fn axis(&self) -> Option<[f64; 2]> {
+        let [a, b] = self.jambs;
+        let len = crate::geometry::dist(a, b);
+        (len > 0.0).then(|| [(b[0] - a[0]) / len, (b[1] - a[1]) / len])
+    }
+
     /// Whether the straight move `from → to` crosses the door line between the jambs — how a
     /// place map confirms a hypothesis when the robot passes through it.
     pub fn crossed_by(&self, from: [f64; 2], to: [f64; 2]) -> bool {

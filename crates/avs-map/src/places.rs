@@ -625,11 +625,9 @@ impl PlaceMap {
 fn crosses_door_wall(h: &DoorHypothesis, a: [f64; 2], b: [f64; 2]) -> bool {
     const BEYOND: f64 = 1.0;
     let [ja, jb] = h.jambs;
-    let len = dist(ja, jb);
-    if len <= 0.0 {
+    let Some(u) = h.axis() else {
         return false;
-    }
-    let u = [(jb[0] - ja[0]) / len, (jb[1] - ja[1]) / len];
+    };
     let wide = DoorHypothesis {
         jambs: [
             [ja[0] - BEYOND * u[0], ja[1] - BEYOND * u[1]],

@@ -1,7 +1,6 @@
 //! Whether a door hypothesis sits in a wall ([`in_a_wall`]): the test that keeps the place
 //! map's doors to openings in the building's walls, not gaps beside furniture.
 
-use super::dist;
 use crate::doors::DoorHypothesis;
 use crate::grid::{Cell, OccupancyGrid};
 
@@ -14,11 +13,9 @@ use crate::grid::{Cell, OccupancyGrid};
 pub fn in_a_wall(known: &OccupancyGrid, h: &DoorHypothesis) -> bool {
     const WALL_RUN: f64 = 0.3;
     let [a, b] = h.jambs;
-    let len = dist(a, b);
-    if len <= 0.0 {
+    let Some(u) = h.axis() else {
         return false;
-    }
-    let u = [(b[0] - a[0]) / len, (b[1] - a[1]) / len];
+    };
     let step = known.resolution() / 2.0;
     let runs = |from: [f64; 2], dir: f64| {
         let n = (WALL_RUN / step).ceil() as usize;
