@@ -3,6 +3,16 @@
 use super::*;
 use crate::skills::testing;
 
+/// An agent with the default settings over the shipped domain and knowledge.
+fn default_agent() -> Agent {
+    Agent::new(
+        testing::domain(),
+        testing::knowledge(),
+        AgentConfig::default(),
+    )
+    .unwrap()
+}
+
 #[test]
 fn a_domain_missing_an_operator_the_agent_executes_is_rejected_by_new_naming_it() {
     let path = concat!(
@@ -25,10 +35,9 @@ fn a_domain_missing_an_operator_the_agent_executes_is_rejected_by_new_naming_it(
 
 #[test]
 fn an_agent_finds_an_object_in_a_known_room_with_a_scripted_robot() {
-    let domain = testing::domain();
     let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
     robot.place(testing::object("cerealbox", 3.6, 2.8, 0.14));
-    let mut agent = Agent::new(domain, testing::knowledge(), AgentConfig::default()).unwrap();
+    let mut agent = default_agent();
     let report = agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
     let text = crate::trace::render_text(&report.trace);
     let f = report.found.unwrap_or_else(|| panic!("{text}"));
@@ -192,12 +201,7 @@ fn a_find_all_goal_verifies_what_earlier_looks_saw_of_its_class_before_it_plans(
         robot
     };
     let mut robot = world();
-    let mut agent = Agent::new(
-        testing::domain(),
-        testing::knowledge(),
-        AgentConfig::default(),
-    )
-    .unwrap();
+    let mut agent = default_agent();
     let goals = Goal::find_all(["cerealbox", "mug", "cerealbox"]);
     assert_eq!(goals.len(), 2, "duplicates are dropped");
     assert_eq!(goals[0].also, ["mug"]);
@@ -230,12 +234,7 @@ fn a_find_all_goal_verifies_what_earlier_looks_saw_of_its_class_before_it_plans(
 
     // The same two goals on their own: the mug's search has to plan a search.
     let mut robot = world();
-    let mut agent = Agent::new(
-        testing::domain(),
-        testing::knowledge(),
-        AgentConfig::default(),
-    )
-    .unwrap();
+    let mut agent = default_agent();
     agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
     let alone = agent.search(&mut robot, Goal::find("mug")).unwrap();
     assert!(
@@ -249,12 +248,7 @@ fn a_find_all_goal_verifies_what_earlier_looks_saw_of_its_class_before_it_plans(
 fn an_object_the_agent_already_knows_is_reported_by_one_plan_not_planned_again_and_again() {
     let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
     robot.place(testing::object("cerealbox", 3.6, 2.8, 0.14));
-    let mut agent = Agent::new(
-        testing::domain(),
-        testing::knowledge(),
-        AgentConfig::default(),
-    )
-    .unwrap();
+    let mut agent = default_agent();
     let first = agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
     assert!(first.found.is_some());
     // The same class again: the known cereal box is the goal's object.
@@ -275,12 +269,7 @@ fn an_object_the_agent_already_knows_is_reported_by_one_plan_not_planned_again_a
 #[test]
 fn a_find_all_goal_naming_an_unknown_class_is_refused_naming_it() {
     let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
-    let mut agent = Agent::new(
-        testing::domain(),
-        testing::knowledge(),
-        AgentConfig::default(),
-    )
-    .unwrap();
+    let mut agent = default_agent();
     let goals = Goal::find_all(["cerealbox", "unicorn"]);
     let e = agent.search(&mut robot, goals[0].clone()).unwrap_err();
     assert!(
