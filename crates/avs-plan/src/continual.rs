@@ -297,8 +297,17 @@ impl ContinualPlanner {
         {
             return Ok(Decision::GoalReached);
         }
+        let t0 = std::time::Instant::now();
         let g = ground(&self.domain, inst, f)?;
+        let ground_ms = t0.elapsed().as_secs_f64() * 1e3;
         let task = &g.task;
+        if tracing::enabled!(tracing::Level::TRACE) {
+            let mut per_schema = std::collections::BTreeMap::<&str, usize>::new();
+            for o in &task.operators {
+                *per_schema.entry(o.schema.as_str()).or_default() += 1;
+            }
+            tracing::trace!(?per_schema, "grounded operators per schema");
+        }
         let mut opts = self.options.search;
         opts.min_probability = self.options.min_success;
         let warm = f64::from_bits(self.last_ratio_reward.load(Ordering::Relaxed));
@@ -312,6 +321,8 @@ impl ContinualPlanner {
         tracing::debug!(
             variables = task.variables.len(),
             operators = task.operators.len(),
+            ground_ms,
+            search_ms = t0.elapsed().as_secs_f64() * 1e3 - ground_ms,
             mode = ?opts.mode,
             stats = ?result.as_ref().ok().map(|r| r.1),
             "searched"

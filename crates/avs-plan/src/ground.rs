@@ -99,7 +99,24 @@ struct VarTable {
 /// with that value as a precondition, plus once for `none`. The state then tells exactly which
 /// assumptions may follow, so duplicate detection stays exact; an assumption nothing reads can
 /// only end the chain, so a plan carries at most one, not every subset of them.
-fn chain_assumptions(ops: Vec<Operator>, vt: &mut VarTable) -> Vec<Operator> {
+///
+/// Only copies that can apply are made, which on a 30-room floor removes about half of the
+/// assumptive operators (and the heuristic's work on them):
+/// * the `none` copy only when the operator's preconditions hold initially: with assumptions
+///   first, `(assumption-chain) = none` while assuming means no assumption was made yet, so the
+///   state is the initial one;
+/// * the copy after write set k only when some assumption writing k sets every shared variable
+///   to the value the operator needs (else the operator cannot follow it), and shares a variable
+///   other than the pool order's `exists(previous) = yes` (`pool_pred`: a new object's `exists`
+///   variable → its pool predecessor's). That precondition only breaks the pool's symmetry: a
+///   plan whose assumption is linked to the one before by it alone is no better than the same
+///   plan without the earlier assumption (read by nothing else) and with the object renamed to
+///   the earlier one, so the best plan survives.
+fn chain_assumptions(
+    ops: Vec<Operator>,
+    vt: &mut VarTable,
+    pool_pred: &HashMap<u32, u32>,
+) -> Vec<Operator> {
     let phase = (vt.values.len() - 1) as u32;
     let chain = vt.values.len() as u32;
     let writes = |o: &Operator| -> Vec<u32> {
@@ -115,11 +132,91 @@ fn chain_assumptions(ops: Vec<Operator>, vt: &mut VarTable) -> Vec<Operator> {
         let n = sets.len() as u32 + 1;
         sets.entry(writes(o)).or_insert(n);
     }
-    let mut values = vec!["none".to_string()];
     let mut by_id: Vec<Vec<u32>> = vec![Vec::new(); sets.len() + 1];
     for (w, &k) in &sets {
         by_id[k as usize] = w.clone();
     }
+    let mut sets_writing: HashMap<u32, Vec<usize>> = HashMap::default();
+    for (k, w) in by_id.iter().enumerate().skip(1) {
+        for &v in w {
+            sets_writing.entry(v).or_default().push(k);
+        }
+    }
+    // Per assumption: its own set, whether it may start a chain, the sets it may follow.
+    struct Links {
+        own: usize,
+        first: bool,
+        linked: Vec<usize>,
+    }
+    let links: Vec<Option<Links>> = ops
+        .iter()
+        .map(|o| {
+            o.assumption.then(|| {
+                // The pool order's precondition links to nothing (see above).
+                let order = o
+                    .eff
+                    .iter()
+                    .find_map(|&(v, x)| (x == 1).then(|| pool_pred.get(&v).copied()).flatten());
+                let mut linked: Vec<usize> = o
+                    .pre
+                    .iter()
+                    .filter(|&&(v, _)| Some(v) != order)
+                    .filter_map(|(v, _)| sets_writing.get(v))
+                    .flatten()
+                    .copied()
+                    .collect();
+                linked.sort_unstable();
+                linked.dedup();
+                Links {
+                    own: sets[&writes(o)] as usize,
+                    first: o
+                        .pre
+                        .iter()
+                        .all(|&(v, x)| v == phase || vt.init[v as usize] == x),
+                    linked,
+                }
+            })
+        })
+        .collect();
+    // Which copies can apply, to a fixpoint: a copy after set k needs a writer of k that agrees
+    // with it, and that writer needs a copy that can apply itself.
+    let mut after: Vec<Vec<u32>> = vec![Vec::new(); ops.len()];
+    let mut alive: Vec<bool> = links.iter().map(Option::is_some).collect();
+    loop {
+        let mut effects: Vec<Vec<&[(u32, u32)]>> = vec![Vec::new(); by_id.len()];
+        for (i, l) in links.iter().enumerate() {
+            if let Some(l) = l.as_ref().filter(|_| alive[i]) {
+                let e = ops[i].eff.as_slice();
+                if !effects[l.own].contains(&e) {
+                    effects[l.own].push(e);
+                }
+            }
+        }
+        let mut changed = false;
+        for (i, l) in links.iter().enumerate() {
+            let Some(l) = l.as_ref().filter(|_| alive[i]) else {
+                continue;
+            };
+            let o = &ops[i];
+            let need = |v: u32| o.pre.iter().find(|&&(w, _)| w == v).map(|&(_, x)| x);
+            let agrees = |k: usize| {
+                effects[k].iter().any(|eff| {
+                    eff.iter()
+                        .all(|&(v, x)| v == phase || need(v).is_none_or(|y| y == x))
+                })
+            };
+            after[i] = l.first.then_some(0).into_iter().collect();
+            after[i].extend(l.linked.iter().filter(|&&k| agrees(k)).map(|&k| k as u32));
+            if after[i].is_empty() {
+                alive[i] = false;
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    let mut values = vec!["none".to_string()];
     values.extend(by_id.iter().skip(1).map(|w| {
         let names: Vec<&str> = w.iter().map(|&v| vt.names[v as usize].as_str()).collect();
         format!("wrote {}", names.join(", "))
@@ -129,26 +226,16 @@ fn chain_assumptions(ops: Vec<Operator>, vt: &mut VarTable) -> Vec<Operator> {
     vt.init.push(0);
     vt.schema.push(usize::MAX);
     let mut out = Vec::with_capacity(ops.len());
-    for mut o in ops {
-        if !o.assumption {
+    for (mut o, (l, after)) in ops.into_iter().zip(links.iter().zip(&after)) {
+        let Some(l) = l else {
             o.eff.push((chain, 0));
             o.eff.sort_unstable();
             out.push(o);
             continue;
-        }
-        let own = sets[&writes(&o)];
-        let reads: Vec<u32> = o.pre.iter().map(|&(v, _)| v).collect();
-        let after = std::iter::once(0).chain(
-            by_id
-                .iter()
-                .enumerate()
-                .skip(1)
-                .filter(|(_, w)| w.iter().any(|v| reads.contains(v)))
-                .map(|(k, _)| k as u32),
-        );
-        o.eff.push((chain, own));
+        };
+        o.eff.push((chain, l.own as u32));
         o.eff.sort_unstable();
-        for k in after {
+        for &k in after {
             let mut copy = o.clone();
             copy.pre.push((chain, k));
             copy.pre.sort_unstable();
@@ -569,6 +656,19 @@ pub fn ground_with(
         });
     }
 
+    // Operators reading a value no operator writes, other than the initial one, never apply;
+    // dropped before the chains so that no copy waits for an assumption that cannot be made.
+    let mut written = vec![false; vt.values.len()];
+    for o in &ops {
+        for &(v, _) in &o.eff {
+            written[v as usize] = true;
+        }
+    }
+    ops.retain(|o| {
+        o.pre
+            .iter()
+            .all(|&(v, x)| written[v as usize] || vt.init[v as usize] == x)
+    });
     // The assumption chain's variable, a search-control variable (`Variable::control`).
     let mut control = None;
     // Assumptions first: a phase variable (assuming → acting) orders them.
@@ -590,7 +690,11 @@ pub fn ground_with(
         }
         if d.assumption_chains {
             control = Some(vt.values.len());
-            ops = chain_assumptions(ops, &mut vt);
+            let pool_pred = prev_virtual
+                .iter()
+                .map(|(o, prev)| (vt.exists[o] as u32, vt.exists[prev] as u32))
+                .collect();
+            ops = chain_assumptions(ops, &mut vt, &pool_pred);
         }
     }
     // Goal.

@@ -84,7 +84,11 @@
 //!   assumptions are where a placeholder leads (or a room's category), then an object in that
 //!   room, then the goal on that object, each reading the category or the class the one before
 //!   set. The test `assumption_chains_keep_the_best_plan_…` checks the objective against the
-//!   unchained search.
+//!   unchained search. Only copies that can apply are grounded (a first copy only when the
+//!   assumption holds initially; a copy after a write set only when a writer of that set, itself
+//!   kept, agrees with it on every variable both touch and shares one with it besides the pool
+//!   order's `exists`, see `ground`): on a late plan of a 30-room floor 4,566 operators instead
+//!   of 8,122, the same plans.
 //! * **`unknown`.** The value named `unknown` is what monitoring treats as "not yet observed":
 //!   an assumption on a variable still `unknown` stays open; any other value confirms or
 //!   contradicts it.

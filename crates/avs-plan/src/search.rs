@@ -328,6 +328,11 @@ fn with_relevant(
         )));
     }
     let keep = task.relevant_operators(opts.min_probability);
+    tracing::trace!(
+        relevant = keep.len(),
+        operators = task.operators.len(),
+        "relevance analysis"
+    );
     let pruned;
     let t = if keep.len() < task.operators.len() {
         pruned = Task {

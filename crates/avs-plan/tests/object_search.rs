@@ -365,6 +365,58 @@ fn assumption_chains_keep_the_best_plan_and_spare_the_subsets_of_useless_assumpt
 }
 
 #[test]
+fn assumption_chains_ground_only_the_copies_that_can_apply() {
+    // Each assumption is copied per value of `(assumption-chain)` it may follow. A copy that
+    // cannot apply is dead weight for the grounding and the heuristic; check the grounded task
+    // against the chain's meaning: `none` while assuming is the initial state, and value k means
+    // the last assumption wrote set k, so the copy needs one writer of k that agrees with it on
+    // every variable both touch and shares one with it (the pool order aside, crate docs).
+    let d = object_search_domain();
+    for target in ["cerealbox", "table"] {
+        let (p, xy) = office_with_rooms(4, target);
+        let f = functions(&xy);
+        let inst = avs_plan::problem::Instance::new(&d, &p).unwrap();
+        let t = avs_plan::ground::ground(&d, inst, &f).unwrap().task;
+        let var = |name: &str| t.variables.iter().position(|v| v.name == name).unwrap() as u32;
+        let (chain, phase) = (var("(assumption-chain)"), var("(phase)"));
+        let at = |pairs: &[(u32, u32)], v: u32| pairs.iter().find(|e| e.0 == v).map(|e| e.1);
+        let pool_order = var("exists(new-object1)");
+        let assumptions: Vec<_> = t.operators.iter().filter(|o| o.assumption).collect();
+        assert!(
+            assumptions.len() > 20,
+            "{target}: {} assumptions",
+            assumptions.len()
+        );
+        for o in &assumptions {
+            let k = at(&o.pre, chain).expect("every assumption reads the chain");
+            let after = if k == 0 {
+                o.pre.iter().all(|&(v, x)| t.init[v as usize] == x)
+            } else {
+                assumptions.iter().any(|w| {
+                    let eff: Vec<_> = w
+                        .eff
+                        .iter()
+                        .filter(|e| e.0 != chain && e.0 != phase)
+                        .collect();
+                    at(&w.eff, chain) == Some(k)
+                        && eff.iter().all(|e| at(&o.pre, e.0).is_none_or(|x| x == e.1))
+                        && eff.iter().any(|e| {
+                            at(&o.pre, e.0).is_some()
+                                && !(e.0 == pool_order
+                                    && o.eff.contains(&(var("exists(new-object2)"), 1)))
+                        })
+                })
+            };
+            assert!(
+                after,
+                "{target}: {} {:?} can never apply after chain value {}",
+                o.schema, o.args, t.variables[chain as usize].values[k as usize]
+            );
+        }
+    }
+}
+
+#[test]
 fn assumption_chains_without_assumptions_first_is_rejected_naming_the_field() {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains/object_search.yaml");

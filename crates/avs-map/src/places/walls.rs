@@ -51,7 +51,16 @@ pub fn spans(known: &OccupancyGrid, p: [f64; 2], span: f64) -> bool {
         return false;
     };
     let need = (span / known.resolution()).ceil() as i64;
-    let mut seen = std::collections::HashSet::from([start]);
+    // The flood stays within `need` cells of `start` (popping a cell `need − 1` away already
+    // decides), so a window of that radius replaces a hash set; a cell beyond it would decide
+    // the same way.
+    let side = 2 * need + 1;
+    let mut seen = vec![false; (side * side) as usize];
+    let slot = |(c, r): (i64, i64)| {
+        let (dc, dr) = (c - start.0 + need, r - start.1 + need);
+        ((0..side).contains(&dc) && (0..side).contains(&dr)).then(|| (dr * side + dc) as usize)
+    };
+    seen[slot(start).unwrap_or_default()] = true;
     let mut queue = std::collections::VecDeque::from([start]);
     let (mut lo, mut hi) = (start, start);
     while let Some((c, r)) = queue.pop_front() {
@@ -66,11 +75,72 @@ pub fn spans(known: &OccupancyGrid, p: [f64; 2], span: f64) -> bool {
         for dr in -1..=1 {
             for dc in -1..=1 {
                 let n = (c + dc, r + dr);
-                if (dc, dr) != (0, 0) && non_free(n.0, n.1) && seen.insert(n) {
+                if (dc, dr) == (0, 0) || !non_free(n.0, n.1) {
+                    continue;
+                }
+                let Some(i) = slot(n) else {
+                    return true; // as far from `start` as an obstacle of `need` cells
+                };
+                if !seen[i] {
+                    seen[i] = true;
                     queue.push_back(n);
                 }
             }
         }
     }
     false
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The definition, by brute force: flood the whole obstacle (off-map cells count as
+    /// non-free) and measure it.
+    fn spans_by_whole_flood(known: &OccupancyGrid, p: [f64; 2], span: f64) -> bool {
+        let (c0, r0) = known.world_to_cell(p[0], p[1]);
+        let non_free = |c: i64, r: i64| !known.contains(c, r) || known.get_i(c, r) != Cell::Free;
+        let Some(start) = (-1..=1)
+            .flat_map(|dr| (-1..=1).map(move |dc| (c0 + dc, r0 + dr)))
+            .filter(|&(c, r)| non_free(c, r))
+            .min_by_key(|&(c, r)| (c - c0).abs() + (r - r0).abs())
+        else {
+            return false;
+        };
+        let mut seen = std::collections::HashSet::from([start]);
+        let mut todo = vec![start];
+        while let Some((c, r)) = todo.pop() {
+            if !known.contains(c, r) {
+                return true;
+            }
+            for (dc, dr) in (-1..=1).flat_map(|dr| (-1..=1).map(move |dc| (dc, dr))) {
+                let n = (c + dc, r + dr);
+                if non_free(n.0, n.1) && seen.insert(n) {
+                    todo.push(n);
+                }
+            }
+        }
+        let need = (span / known.resolution()).ceil() as i64;
+        let extent = |f: fn(&(i64, i64)) -> i64| {
+            seen.iter().map(f).max().unwrap_or(0) - seen.iter().map(f).min().unwrap_or(0) + 1
+        };
+        extent(|c| c.0) >= need || extent(|c| c.1) >= need
+    }
+
+    proptest! {
+        #[test]
+        fn spans_agrees_with_flooding_the_whole_obstacle(
+            cells in proptest::collection::vec(prop_oneof![6 => Just(Cell::Free), 2 => Just(Cell::Occupied), 1 => Just(Cell::Unknown)], 24 * 24),
+            at in (0.0f64..6.0, 0.0f64..6.0),
+            span in 0.0f64..3.0,
+        ) {
+            let mut g = OccupancyGrid::new(24, 24, 0.25, [0.0, 0.0], Cell::Free).unwrap();
+            for (i, &c) in cells.iter().enumerate() {
+                g.set(i % 24, i / 24, c);
+            }
+            let p = [at.0, at.1];
+            prop_assert_eq!(spans(&g, p, span), spans_by_whole_flood(&g, p, span));
+        }
+    }
 }
