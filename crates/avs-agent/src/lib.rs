@@ -81,7 +81,11 @@
 //!   1 m² of open space around them, unknown or seen but unvisited, are ignored); rooms are `room<id>` with category
 //!   `unknown` (categories stay probabilistic); found objects are `object<K>` with
 //!   `found = yes`. Explored placeholders stay in the problem with `leads-to` set to the room they
-//!   led to (or `none`), so the monitor can confirm or contradict ASSUME-LEADS-TO-ROOM.
+//!   led to (or `none`), so the monitor can confirm or contradict ASSUME-LEADS-TO-ROOM. Only the
+//!   classes that can lead to the goal (its own, and the landmarks it may lie on or in,
+//!   transitively) are labels, and only found objects of those classes (and what they lie on)
+//!   are objects: nothing else can take part in a plan for the goal, and on 30-room floors the
+//!   other objects were most of what each plan grounded.
 //! * **Probabilities** come from the conceptual map: P_category(placeholder) for
 //!   `p-leads-to-room`, the room posterior for `p-category`, P(n ≥ 1) = 1 − e^{−λ} per category
 //!   for `p-object-in`/`p-object-on`/`p-object-inside` (Aydemir et al. 2011, §III-A, eq. 1–2; rates thinned by

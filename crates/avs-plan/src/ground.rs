@@ -182,31 +182,48 @@ fn chain_assumptions(
     // with it, and that writer needs a copy that can apply itself.
     let mut after: Vec<Vec<u32>> = vec![Vec::new(); ops.len()];
     let mut alive: Vec<bool> = links.iter().map(Option::is_some).collect();
-    loop {
-        let mut effects: Vec<Vec<&[(u32, u32)]>> = vec![Vec::new(); by_id.len()];
-        for (i, l) in links.iter().enumerate() {
-            if let Some(l) = l.as_ref().filter(|_| alive[i]) {
-                let e = ops[i].eff.as_slice();
-                if !effects[l.own].contains(&e) {
-                    effects[l.own].push(e);
-                }
-            }
+    let mut writers: Vec<Vec<usize>> = vec![Vec::new(); by_id.len()];
+    for (i, l) in links.iter().enumerate() {
+        if let Some(l) = l {
+            writers[l.own].push(i);
         }
+    }
+    loop {
+        // Per (set, variables a reader shares with it): the values the set's live writers give
+        // those variables. A set such as "an object of some class somewhere" has hundreds of
+        // writers, so readers look their values up instead of comparing with each writer.
+        let mut written: HashMap<(usize, Vec<u32>), std::collections::HashSet<Vec<u32>>> =
+            HashMap::default();
         let mut changed = false;
         for (i, l) in links.iter().enumerate() {
             let Some(l) = l.as_ref().filter(|_| alive[i]) else {
                 continue;
             };
             let o = &ops[i];
-            let need = |v: u32| o.pre.iter().find(|&&(w, _)| w == v).map(|&(_, x)| x);
-            let agrees = |k: usize| {
-                effects[k].iter().any(|eff| {
-                    eff.iter()
-                        .all(|&(v, x)| v == phase || need(v).is_none_or(|y| y == x))
-                })
-            };
             after[i] = l.first.then_some(0).into_iter().collect();
-            after[i].extend(l.linked.iter().filter(|&&k| agrees(k)).map(|&k| k as u32));
+            for &k in &l.linked {
+                let (vars, want): (Vec<u32>, Vec<u32>) = o
+                    .pre
+                    .iter()
+                    .filter(|(v, _)| by_id[k].contains(v))
+                    .copied()
+                    .unzip();
+                let values = written.entry((k, vars)).or_insert_with_key(|(_, vars)| {
+                    writers[k]
+                        .iter()
+                        .filter(|&&w| alive[w])
+                        .map(|&w| {
+                            let eff = &ops[w].eff;
+                            vars.iter()
+                                .map(|v| eff.iter().find(|e| e.0 == *v).map_or(u32::MAX, |e| e.1))
+                                .collect()
+                        })
+                        .collect()
+                });
+                if values.contains(&want) {
+                    after[i].push(k as u32);
+                }
+            }
             if after[i].is_empty() {
                 alive[i] = false;
                 changed = true;

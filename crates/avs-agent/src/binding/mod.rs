@@ -110,13 +110,35 @@ impl Binding {
         for c in &knowledge.room_categories {
             p = p.object(c, "category");
         }
+        // Only the classes that can lead to the goal are labels of the problem, and only the
+        // objects of those classes (and what they lie on, with its class) are its objects:
+        // nothing else can take part in a plan for the goal (`relevant`), and on a 30-room floor
+        // the offices' desks and the sightings of other classes were most of the problem's
+        // objects, each with its variables (class, location, cones per label) to ground at
+        // every plan.
+        s.relevant = relevant_classes(knowledge, goal);
+        let in_problem: BTreeSet<usize> = mem
+            .objects
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| s.relevant.contains(&o.class))
+            .flat_map(|(k, o)| std::iter::once(k).chain(o.on))
+            .collect();
+        let labels: BTreeSet<&str> = s
+            .relevant
+            .iter()
+            .map(String::as_str)
+            .chain(in_problem.iter().map(|&k| mem.objects[k].class.as_str()))
+            .collect();
         for c in &knowledge.object_classes {
+            if !labels.contains(c.name.as_str()) {
+                continue;
+            }
             p = p.object(&c.name, "label");
             if c.landmark {
                 p = p.fact(&format!("landmark({})", c.name));
             }
         }
-        s.relevant = relevant_classes(knowledge, goal);
         for (r, _) in wm.rooms() {
             let n = names::room(r);
             p = p
@@ -214,7 +236,7 @@ impl Binding {
         // Found objects (landmarks and sightings); landmarks searched in vain for the goal are
         // left out so that the planner does not assume the goal on them again.
         for (k, o) in mem.objects.iter().enumerate() {
-            if mem.exhausted.contains(&(k, goal.to_string())) {
+            if mem.exhausted.contains(&(k, goal.to_string())) || !in_problem.contains(&k) {
                 continue;
             }
             let Some(r) = mem.room_for(o.place) else {
@@ -227,8 +249,10 @@ impl Binding {
                 .init(&format!("located-in({name}) = {}", names::room(r)))
                 .init(&format!("found({name}) = yes"));
             let on =
-                o.on.filter(|j| !mem.exhausted.contains(&(*j, goal.to_string())))
-                    .map_or("none".to_string(), names::object);
+                o.on.filter(|j| {
+                    in_problem.contains(j) && !mem.exhausted.contains(&(*j, goal.to_string()))
+                })
+                .map_or("none".to_string(), names::object);
             p = p
                 .init(&format!("located-on({name}) = {on}"))
                 .init(&format!("located-inside({name}) = none"));
@@ -240,7 +264,7 @@ impl Binding {
                 s.stalled.insert((l.clone(), name));
             }
         }
-        for (l, loc) in mem.cones.keys() {
+        for (l, loc) in mem.cones.keys().filter(|(l, _)| s.relevant.contains(l)) {
             match *loc {
                 ConeLoc::Room(r) if s.rooms.contains_key(&names::room(RoomId(r))) => {
                     p = p.init(&format!("cones-in({l}, {}) = yes", names::room(RoomId(r))));
@@ -337,6 +361,80 @@ mod tests {
             set(&["desk", "table", "whiteboardmarker"])
         );
         assert_eq!(relevant_classes(&k, "table"), set(&["table"]));
+    }
+
+    #[test]
+    fn the_problem_holds_only_the_classes_that_can_lead_to_the_goal_and_their_objects() {
+        use crate::memory::Known;
+        use crate::skills::testing;
+        let (config, k) = (crate::AgentConfig::default(), office());
+        let mut robot = testing::robot(testing::two_rooms(), [2.0, 2.0]);
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let place = mem.current_place().expect("the robot stands at a place");
+        let known = |class: &str, on: Option<usize>| Known {
+            class: class.into(),
+            pos: avs_robot::Point3 {
+                x: 2.0,
+                y: 2.0,
+                z: 0.75,
+            },
+            place,
+            landmark: None,
+            on,
+            counted: true,
+            confidence: 0.8,
+        };
+        // 0 a desk, 1 a table, 2 a mug on the table, 3 another desk, 4 a cereal box on it.
+        mem.objects = vec![
+            known("desk", None),
+            known("table", None),
+            known("mug", Some(1)),
+            known("desk", None),
+            known("cerealbox", Some(3)),
+        ];
+        let b = Binding::of(&mem, &k, "cerealbox");
+        let of_type = |t: &str| -> BTreeSet<String> {
+            b.problem
+                .objects
+                .iter()
+                .filter(|(_, ty)| ty == t)
+                .map(|(n, _)| n.clone())
+                .collect()
+        };
+        // The classes that lead to a cereal box, and the desk's, since a box lies on one.
+        assert_eq!(
+            of_type("label"),
+            set(&["cerealbox", "counter", "desk", "shelf", "table"])
+        );
+        // The table and the cereal box, and the desk the box lies on (its location); not the
+        // other desk or the mug.
+        let objects: BTreeSet<String> = [1, 3, 4].into_iter().map(names::object).collect();
+        assert_eq!(of_type("object"), objects);
+        assert!(b.problem.init.contains(&format!(
+            "located-on({}) = {}",
+            names::object(4),
+            names::object(3)
+        )));
+        // The problem is well formed: it grounds and plans.
+        let planner = avs_plan::continual::ContinualPlanner::new(
+            testing::domain(),
+            avs_plan::continual::ContinualOptions::default(),
+        );
+        let f = crate::binding::probs::Probs::new(&b, &mem.wm.concepts, 0.2, 0.05);
+        planner.plan(&b.problem, &f).expect("the problem plans");
+        // For a stapler, desks can lead to the goal, and both are in.
+        let b = Binding::of(&mem, &k, "stapler");
+        assert!(of_type_in(&b, "object").contains(&names::object(0)));
+        assert!(!of_type_in(&b, "object").contains(&names::object(2)));
+    }
+
+    fn of_type_in(b: &Binding, t: &str) -> BTreeSet<String> {
+        b.problem
+            .objects
+            .iter()
+            .filter(|(_, ty)| ty == t)
+            .map(|(n, _)| n.clone())
+            .collect()
     }
 
     #[test]
