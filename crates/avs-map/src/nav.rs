@@ -275,8 +275,8 @@ pub fn shortest_path_within(
 
 /// Per-cell costs and parents of one A* search, reused by the next: a cell's entries count only
 /// when its stamp is the current search's, so a short search on a large grid costs the cells it
-/// touches rather than clearing two arrays of the whole grid (a third of the agent's map upkeep
-/// on 30-room floors, where most searches ask whether a path of a few metres exists).
+/// touches rather than clearing two arrays of the whole grid (on 30-room floors the agent asks
+/// thousands of times whether a path of a few metres exists).
 #[derive(Default)]
 struct Scratch {
     best: Vec<f64>,

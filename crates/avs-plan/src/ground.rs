@@ -108,14 +108,15 @@ struct VarTable {
 /// * the copy after write set k only when some assumption writing k sets every shared variable
 ///   to the value the operator needs (else the operator cannot follow it), and shares a variable
 ///   other than the pool order's `exists(previous) = yes` (`pool_pred`: a new object's `exists`
-///   variable → its pool predecessor's). That precondition only breaks the pool's symmetry: a
+///   variable → its pool predecessor's, and the predecessor's name), unless the operator also
+///   takes the predecessor as an argument. That precondition only breaks the pool's symmetry: a
 ///   plan whose assumption is linked to the one before by it alone is no better than the same
 ///   plan without the earlier assumption (read by nothing else) and with the object renamed to
 ///   the earlier one, so the best plan survives.
 fn chain_assumptions(
     ops: Vec<Operator>,
     vt: &mut VarTable,
-    pool_pred: &HashMap<u32, u32>,
+    pool_pred: &HashMap<u32, (u32, &str)>,
 ) -> Vec<Operator> {
     let phase = (vt.values.len() - 1) as u32;
     let chain = vt.values.len() as u32;
@@ -156,7 +157,10 @@ fn chain_assumptions(
                 let order = o
                     .eff
                     .iter()
-                    .find_map(|&(v, x)| (x == 1).then(|| pool_pred.get(&v).copied()).flatten());
+                    .filter(|&&(_, x)| x == 1)
+                    .find_map(|(v, _)| pool_pred.get(v))
+                    .filter(|(_, name)| !o.args.iter().any(|a| a == name))
+                    .map(|&(v, _)| v);
                 let mut linked: Vec<usize> = o
                     .pre
                     .iter()
@@ -709,7 +713,10 @@ pub fn ground_with(
             control = Some(vt.values.len());
             let pool_pred = prev_virtual
                 .iter()
-                .map(|(o, prev)| (vt.exists[o] as u32, vt.exists[prev] as u32))
+                .map(|(o, prev)| {
+                    let pred = (vt.exists[prev] as u32, objs.names[*prev].as_str());
+                    (vt.exists[o] as u32, pred)
+                })
                 .collect();
             ops = chain_assumptions(ops, &mut vt, &pool_pred);
         }

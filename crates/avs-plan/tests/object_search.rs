@@ -403,7 +403,8 @@ fn assumption_chains_ground_only_the_copies_that_can_apply() {
                         && eff.iter().any(|e| {
                             at(&o.pre, e.0).is_some()
                                 && !(e.0 == pool_order
-                                    && o.eff.contains(&(var("exists(new-object2)"), 1)))
+                                    && o.eff.contains(&(var("exists(new-object2)"), 1))
+                                    && !o.args.iter().any(|a| a == "new-object1"))
                         })
                 })
             };
