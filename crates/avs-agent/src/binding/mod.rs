@@ -393,14 +393,7 @@ mod tests {
             known("cerealbox", Some(3)),
         ];
         let b = Binding::of(&mem, &k, "cerealbox");
-        let of_type = |t: &str| -> BTreeSet<String> {
-            b.problem
-                .objects
-                .iter()
-                .filter(|(_, ty)| ty == t)
-                .map(|(n, _)| n.clone())
-                .collect()
-        };
+        let of_type = |t: &str| of_type_in(&b, t);
         // The classes that lead to a cereal box, and the desk's, since a box lies on one.
         assert_eq!(
             of_type("label"),
@@ -428,6 +421,7 @@ mod tests {
         assert!(!of_type_in(&b, "object").contains(&names::object(2)));
     }
 
+    /// The names of the problem's objects of type `t`.
     fn of_type_in(b: &Binding, t: &str) -> BTreeSet<String> {
         b.problem
             .objects
