@@ -173,10 +173,7 @@ fn chain_assumptions(
                 linked.dedup();
                 Links {
                     own: sets[&writes(o)] as usize,
-                    first: o
-                        .pre
-                        .iter()
-                        .all(|&(v, x)| v == phase || vt.init[v as usize] == x),
+                    first: o.pre.iter().all(|&(v, x)| vt.init[v as usize] == x),
                     linked,
                 }
             })
@@ -264,6 +261,17 @@ fn chain_assumptions(
         }
     }
     out
+}
+
+/// Per ground variable (of `n`): whether some operator of `ops` writes it.
+fn written_vars(ops: &[Operator], n: usize) -> Vec<bool> {
+    let mut written = vec![false; n];
+    for o in ops {
+        for &(v, _) in &o.eff {
+            written[v as usize] = true;
+        }
+    }
+    written
 }
 
 fn cartesian(lists: &[Vec<usize>]) -> Vec<Vec<usize>> {
@@ -679,12 +687,7 @@ pub fn ground_with(
 
     // Operators reading a value no operator writes, other than the initial one, never apply;
     // dropped before the chains so that no copy waits for an assumption that cannot be made.
-    let mut written = vec![false; vt.values.len()];
-    for o in &ops {
-        for &(v, _) in &o.eff {
-            written[v as usize] = true;
-        }
-    }
+    let written = written_vars(&ops, vt.values.len());
     ops.retain(|o| {
         o.pre
             .iter()
@@ -732,12 +735,7 @@ pub fn ground_with(
         }
     }
     // Remove variables no operator changes.
-    let mut changed = vec![false; vt.values.len()];
-    for o in &ops {
-        for &(v, _) in &o.eff {
-            changed[v as usize] = true;
-        }
-    }
+    let changed = written_vars(&ops, vt.values.len());
     let mut new_id = vec![u32::MAX; vt.values.len()];
     let mut task = Task::default();
     for v in 0..vt.values.len() {
