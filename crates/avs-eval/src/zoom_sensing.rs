@@ -7,14 +7,18 @@
 //! instead of the knowledge's hand-set `detection_range` and `sensor`.
 //!
 //! ## Protocol
-//! For each non-landmark class of the knowledge: the object's front face (`size[0] × size[2]`)
-//! at distances 0.25, 0.5, … 6 m along the optical axis, at the camera's height, facing it
-//! within ±30°, off the axis by up to a quarter of the half field, against an office
+//! For each non-landmark class of the knowledge: the object (its knowledge `size`, a box)
+//! at distances 0.25, 0.5, … 6 m along the optical axis, at the camera's height, turned any
+//! way (its yaw uniform: a robot meets objects from every side, and the simulator's camera
+//! sees the side the recogniser does best on, `avs_sim::image::BoxObject::seen_face`), off
+//! the axis by up to a quarter of the half field, against an office
 //! background (clutter 1) 0.5–2 m behind it; `looks` looks per distance; and the same at every
 //! zoom level of the camera with the distances times the zoom (a zoomed look's range is
 //! measured too: it is not the zoom times the unzoomed one, a farther scene being busier). A look finds the
 //! object when it recognises the class within [`FOUND_WITHIN`] of the face's centre. The
-//! range is the run of distances around the best one where the share found is at least ½;
+//! range is the run of distances around the best one where the share found is at least ½,
+//! to where the share crosses ½ (linear between the distances measured: at zoom 4 they are
+//! 1 m apart, the whole range of a marker);
 //! the miss rate is one minus the mean share found over it. False alarms: `looks` looks per
 //! class at empty scenes (a background 1–6 m away), the share that recognised the class.
 //! A class whose looks never reach ½ keeps the knowledge's sensing (it is left out).
@@ -26,11 +30,12 @@ use avs_robot::{
     ActionFailure, ActionResult, AttentionReport, Camera, FailureReason, ImageGeometry, MapUpdate,
     MoveReport, Point3, Pose2D, RecognitionReport, Robot, ViewCone, ViewReport,
 };
-use avs_sim::image::{attention, recognition, Background, ClassAppearance, SceneObject};
+use avs_sim::image::{attention, recognition, Background, BoxObject, ClassAppearance, SceneObject};
 use avs_sim::{ImageModel, ImageScene};
 use avs_view::zoom::{three_step_search, ObjectModel, ZoomConfig};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use std::f64::consts::PI;
 
 /// A look found the object when it recognised the class within this of the face's centre,
 /// metres.
@@ -226,17 +231,23 @@ pub fn measure(
                         y: sym(0.25 * d * (hfov / 2.0).tan()),
                         z: camera.height + sym(0.25 * d * (vfov / 2.0).tan()),
                     };
-                    let yaw = std::f64::consts::PI + sym(30f64.to_radians());
-                    let depth = d + rng.gen_range(0.5..2.0);
-                    let object = SceneObject {
+                    let object = BoxObject {
                         class: class.name.clone(),
-                        centre,
-                        width: class.size[0],
-                        height: class.size[2],
-                        yaw,
+                        base: Point3 {
+                            z: centre.z - class.size[2] / 2.0,
+                            ..centre
+                        },
+                        yaw: rng.gen_range(-PI..PI),
+                        size: class.size,
                         lookalike: false,
                     };
-                    let seen = look(vec![object], depth, zoom, &mut rng);
+                    let depth = d + rng.gen_range(0.5..2.0);
+                    let cone = ViewCone::new(Pose2D::new(0.0, 0.0, 0.0), 0.0, 0.0, zoom);
+                    let faces = object
+                        .seen_face(model, camera, &cone, &config.image)
+                        .into_iter()
+                        .collect();
+                    let seen = look(faces, depth, zoom, &mut rng);
                     let hit = seen.iter().any(|r| {
                         r.class == class.name
                             && (r.position.x - centre.x)
@@ -271,8 +282,10 @@ pub fn measure(
     Ok(out)
 }
 
-/// The run of distances around the best one where the share found is at least ½, and the
-/// mean share over it; `None` when no distance reaches ½.
+/// The run of distances around the best one where the share found is at least ½, its ends
+/// moved out to where the share crosses ½ (linear between the measured distances next to
+/// them), and the mean share over the run's measured distances; `None` when no distance
+/// reaches ½.
 fn run_at_half(ds: &[f64], found: &[f64]) -> Option<([f64; 2], f64)> {
     let best = (0..found.len()).max_by(|&a, &b| found[a].total_cmp(&found[b]).then(b.cmp(&a)))?;
     if found[best] < 0.5 {
@@ -286,8 +299,17 @@ fn run_at_half(ds: &[f64], found: &[f64]) -> Option<([f64; 2], f64)> {
     while hi + 1 < found.len() && found[hi + 1] >= 0.5 {
         hi += 1;
     }
+    // Where the share falls to ½ between measured distance `i` (≥ ½) and `j` (< ½).
+    let crossing =
+        |i: usize, j: usize| ds[i] + (ds[j] - ds[i]) * (found[i] - 0.5) / (found[i] - found[j]);
+    let near = if lo > 0 { crossing(lo, lo - 1) } else { ds[lo] };
+    let far = if hi + 1 < found.len() {
+        crossing(hi, hi + 1)
+    } else {
+        ds[hi]
+    };
     let mean = found[lo..=hi].iter().sum::<f64>() / (hi - lo + 1) as f64;
-    Some(([ds[lo], ds[hi]], mean))
+    Some(([near, far], mean))
 }
 
 /// The sensing of one class from its measurements (module docs): the unzoomed run decides the
@@ -328,7 +350,8 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_range_is_the_run_around_the_best_distance_at_or_above_one_half() {
+    fn the_range_is_the_run_around_the_best_distance_at_or_above_one_half_to_where_it_crosses_one_half(
+    ) {
         let at = |zoom: f64, found: &[f64]| ZoomMeasurement {
             zoom,
             distances: [0.5, 1.0, 1.5, 2.0, 2.5, 3.0].map(|d| d * zoom).to_vec(),
@@ -340,8 +363,17 @@ mod tests {
             at(4.0, &[0.1; 6]),
         ];
         let s = derive("mug", &m, 0.02).unwrap();
-        assert_eq!(s.detection_range, [1.0, 2.0]);
-        assert_eq!(s.ranges_by_zoom, vec![(1.0, [1.0, 2.0]), (2.0, [1.0, 2.0])]);
+        // Zoom 1: 0.6 at 1 m, 0.4 at 0.5 m: ½ at 0.75 m; 0.7 at 2 m, 0.3 at 2.5 m: ½ at 2.25 m.
+        // Zoom 2: from the first distance (1 m) to ½ between 0.8 at 2 m and 0.2 at 3 m.
+        let close = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).abs() + (a[1] - b[1]).abs() < 1e-12;
+        assert!(close(s.detection_range, [0.75, 2.25]), "{s:?}");
+        assert_eq!(s.ranges_by_zoom.len(), 2, "{s:?}");
+        assert!(close(s.ranges_by_zoom[0].1, [0.75, 2.25]), "{s:?}");
+        assert_eq!(s.ranges_by_zoom[1].0, 2.0);
+        assert!(
+            close(s.ranges_by_zoom[1].1, [1.0, 2.0 + 1.0 * 0.3 / 0.6]),
+            "{s:?}"
+        );
         assert!((s.false_negative - (1.0 - (0.6 + 0.9 + 0.7) / 3.0)).abs() < 1e-12);
         assert_eq!(s.false_positive, 0.02);
         assert!(derive("mug", &[at(1.0, &[0.1; 6])], 0.0).is_none());

@@ -107,7 +107,8 @@
 //! with the cone's pan, tilt and zoom: the scene is every object of the world whose face is in
 //! the image and not hidden by walls or closed doors (the robot's current grid), before a
 //! background of [`ImageConfig::clutter`] at the distance of the wall along the optical axis
-//! ([`crate::image::world_scene`]); faces are the knowledge's `size[0] × size[2]`. The
+//! ([`crate::image::world_scene`]); faces are the sides of the knowledge's boxes, the one the
+//! recogniser does best on of the two turned towards the camera. The
 //! attention gives one vote matrix per class, the recogniser the class's matched features
 //! ([`crate::image`]). Both draw from a generator of their own (stream [`IMAGE_STREAM`] of the
 //! robot's seed), so asking for images changes nothing else the robot draws, and count their
@@ -367,8 +368,7 @@ impl<'w> SimAgentRobot<'w> {
             self.detector.knowledge(),
             camera,
             &taken,
-            &self.image.geometry,
-            self.image.clutter,
+            &self.image,
         );
         (taken, scene)
     }

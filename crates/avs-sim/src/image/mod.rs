@@ -148,7 +148,7 @@ mod scene;
 
 pub use attention::attention;
 pub use recognition::{recognition, Recognition};
-pub use scene::{background_depth, world_scene};
+pub use scene::{background_depth, world_scene, BoxObject};
 
 use avs_robot::{Camera, ImageGeometry, Point3, ViewCone};
 use serde::{Deserialize, Serialize};
@@ -359,6 +359,17 @@ impl ImageModel {
             0.0
         };
         pair[0] + (pair[1] - pair[0]) * c
+    }
+
+    /// The share `p_max · d(n) · α(θ)` of a class's model features one object matches when its
+    /// whole face is in the image (see the [module documentation](self)): `n` its apparent
+    /// size, pixels, `view_angle` the angle `θ` between its face's normal and the direction to
+    /// the camera, radians.
+    pub fn match_share(&self, n: f64, view_angle: f64) -> f64 {
+        let detail = 1.0 / (1.0 + (self.detail_px / n.max(1e-9)).powf(self.detail_steepness));
+        let cos_max = self.max_view_angle.cos();
+        let angle = ((view_angle.cos() - cos_max) / (1.0 - cos_max)).clamp(0.0, 1.0);
+        (self.match_rate * detail * angle).clamp(0.0, 1.0)
     }
 }
 

@@ -37,10 +37,7 @@ pub fn recognition<R: Rng>(
             continue;
         };
         let n = face.size_px();
-        let detail = 1.0 / (1.0 + (model.detail_px / n.max(1e-9)).powf(model.detail_steepness));
-        let cos_max = model.max_view_angle.cos();
-        let angle = ((face.view_angle.cos() - cos_max) / (1.0 - cos_max)).clamp(0.0, 1.0);
-        let p = (model.match_rate * detail * angle * face.visible_share(image)).clamp(0.0, 1.0);
+        let p = model.match_share(n, face.view_angle) * face.visible_share(image);
         let count = Binomial::new(u64::from(n_model), p).map_or(0, |d| d.sample(rng));
         // The apparent scale relative to the training image: a keypoint's scale follows the
         // object's pixels per metre, here `f / depth`, there `W_tr / W` (whichever side of the

@@ -6,13 +6,20 @@
 //! * **Faces.** An object is its class's box in the knowledge (`size`; the object's own `size`
 //!   when its class is not in the knowledge), standing on its pose's height (the pose's height
 //!   is the object's base: an object on a table has the table top's height), turned by the
-//!   object's yaw. The face a camera sees is the side of the box that faces it best: the front
-//!   or back (`size[0] × size[2]`, the face `avs_view::zoom::ObjectModel` reads) or a left or
-//!   right side (`size[1] × size[2]`), so no view is more than 45° off a face. The recogniser's
-//!   training images show the object from its four sides (the environments give objects a yaw
-//!   but the knowledge no favoured side), and a keypoint's scale follows the object's pixels
-//!   per metre whichever side it is on; a narrow side shows fewer pixels, and fewer features
-//!   match there.
+//!   object's yaw. The recogniser's training images show the object from its four sides (the
+//!   environments give objects a yaw but the knowledge no favoured side): the front or back
+//!   (`size[0] × size[2]`, the face `avs_view::zoom::ObjectModel` reads) and the left or right
+//!   (`size[1] × size[2]`). A camera sees two of them, one of each pair, turned by angles
+//!   that add up to 90°; the face in the image is the one of the two on which the recogniser
+//!   matches the larger share of its model ([`ImageModel::match_share`]: apparent size and
+//!   angle), as a recogniser matching against four training views reports its best; when it
+//!   matches neither (too far, too small), the one facing the camera more squarely. A keypoint's scale
+//!   follows the object's pixels per metre whichever side it is on. So a long, thin object
+//!   (a marker: 13 × 2 cm) is recognised by its long side until it is seen nearly end-on
+//!   (until its long side's angle nears [`ImageModel::max_view_angle`]), not only within 45°
+//!   of it: choosing the side nearest in angle alone made a marker 2 cm wide from half the
+//!   directions, which the pipeline's calibration (one face, turned towards the camera) does
+//!   not measure.
 //! * **Look-alikes.** An object with `role: distractor` is a look-alike of every other class
 //!   ([`SceneObject::lookalike`]), as in [`crate::world_scores`] (whose exclusion of landmark
 //!   classes is not kept: the zoom pipeline searches for objects, not furniture). The
@@ -23,7 +30,8 @@
 //!   camera looks down and the axis meets the floor first; the grid's diagonal when neither is
 //!   met.
 
-use super::{face_image, Background, ImageScene, SceneObject};
+use super::{face_image, Background, ImageModel, ImageScene, SceneObject};
+use crate::sim_robot::ImageConfig;
 use crate::world::World;
 use avs_format::environment::ObjectRole;
 use avs_format::knowledge::Knowledge;
@@ -33,58 +41,114 @@ use avs_robot::{Camera, ImageGeometry, Point3, ViewCone};
 
 /// The scene in an image taken through `cone` by `camera` in `world`, with line of sight on
 /// `walls` (a grid of the world's geometry, doors as they are now): every object whose face
-/// is in the image and not hidden by walls or closed doors, and a background of `clutter`
-/// (0 a plain wall, 1 an office scene) at [`background_depth`]. Faces as in the
-/// [module documentation](self).
+/// is in the image and not hidden by walls or closed doors, and a background of `config`'s
+/// clutter (0 a plain wall, 1 an office scene) at [`background_depth`]; the image's geometry
+/// and model are `config`'s too. Faces as in the [module documentation](self).
 pub fn world_scene(
     world: &World,
     walls: &OccupancyGrid,
     knowledge: &Knowledge,
     camera: &Camera,
     cone: &ViewCone,
-    image: &ImageGeometry,
-    clutter: f64,
+    config: &ImageConfig,
 ) -> ImageScene {
+    let (model, image) = (&config.model, &config.geometry);
     let eye = [cone.pose.x, cone.pose.y];
     let objects = world
         .env
         .objects
         .iter()
         .filter_map(|o| {
-            let size = knowledge.class(&o.class).map_or(o.size, |c| c.size);
-            // The side that faces the camera best (module docs): front and back are
-            // `size[0]` wide, the left and right sides `size[1]`.
-            let to_camera = (eye[1] - o.pose.y).atan2(eye[0] - o.pose.x);
-            let off = avs_map::geometry::wrap_angle(to_camera - o.pose.yaw_deg.to_radians());
-            let quarter = (off / std::f64::consts::FRAC_PI_2).round();
-            let yaw = o.pose.yaw_deg.to_radians() + quarter * std::f64::consts::FRAC_PI_2;
-            let width = if quarter.rem_euclid(2.0) == 0.0 {
-                size[0]
-            } else {
-                size[1]
-            };
-            let object = SceneObject {
+            let object = BoxObject {
                 class: o.class.clone(),
-                centre: Point3 {
+                base: Point3 {
                     x: o.pose.x,
                     y: o.pose.y,
-                    z: o.pose.z + size[2] / 2.0,
+                    z: o.pose.z,
                 },
-                width,
-                height: size[2],
-                yaw: avs_map::geometry::wrap_angle(yaw),
+                yaw: o.pose.yaw_deg.to_radians(),
+                size: knowledge.class(&o.class).map_or(o.size, |c| c.size),
                 lookalike: o.role == ObjectRole::Distractor,
-            };
-            face_image(&object, camera, cone, image)?;
+            }
+            .seen_face(model, camera, cone, image)?;
             line_of_sight(walls, eye, [o.pose.x, o.pose.y], false).then_some(object)
         })
         .collect();
     ImageScene {
         objects,
         background: Background {
-            clutter,
+            clutter: config.clutter,
             depth: background_depth(walls, camera, cone),
         },
+    }
+}
+
+/// An object before the image chooses its face: its class's box (`size`: width, depth,
+/// height) standing on `base` (the centre of its bottom), its front turned towards `yaw`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BoxObject {
+    /// The object's class.
+    pub class: String,
+    /// The centre of the box's bottom, world frame.
+    pub base: Point3,
+    /// The direction the front faces, radians.
+    pub yaw: f64,
+    /// Width (front and back), depth (left and right sides) and height, metres.
+    pub size: [f64; 3],
+    /// A look-alike of every other class ([`SceneObject::lookalike`]).
+    pub lookalike: bool,
+}
+
+impl BoxObject {
+    /// The face of the box in an image taken through `cone` (module docs, "Faces"): of the
+    /// two sides turned most towards the camera — the nearer of front and back (`size[0]`
+    /// wide) and the nearer of left and right (`size[1]`) — the one on which the recogniser
+    /// matches the larger share of its model ([`ImageModel::match_share`]); when it matches
+    /// neither, the one facing the camera more squarely. `None` when the face is not in the
+    /// image.
+    pub fn seen_face(
+        &self,
+        model: &ImageModel,
+        camera: &Camera,
+        cone: &ViewCone,
+        image: &ImageGeometry,
+    ) -> Option<SceneObject> {
+        use std::f64::consts::FRAC_PI_2;
+        let to_camera = (cone.pose.y - self.base.y).atan2(cone.pose.x - self.base.x);
+        let off = avs_map::geometry::wrap_angle(to_camera - self.yaw);
+        // The nearer of front (quarter 0) and back (2), and the nearer side (1 or −1).
+        let front = if off.abs() <= FRAC_PI_2 { 0.0 } else { 2.0 };
+        let side = if off >= 0.0 { 1.0 } else { -1.0 };
+        let scored = |quarter: f64| {
+            let face = SceneObject {
+                class: self.class.clone(),
+                centre: Point3 {
+                    z: self.base.z + self.size[2] / 2.0,
+                    ..self.base
+                },
+                width: if quarter == 0.0 || quarter == 2.0 {
+                    self.size[0]
+                } else {
+                    self.size[1]
+                },
+                height: self.size[2],
+                yaw: avs_map::geometry::wrap_angle(self.yaw + quarter * FRAC_PI_2),
+                lookalike: self.lookalike,
+            };
+            let seen = face_image(&face, camera, cone, image)?;
+            Some((
+                model.match_share(seen.size_px(), seen.view_angle),
+                seen.view_angle,
+                face,
+            ))
+        };
+        match (scored(front), scored(side)) {
+            (Some(a), Some(b)) => {
+                let a_better = a.0 > b.0 || (a.0 == b.0 && a.1 <= b.1);
+                Some(if a_better { a.2 } else { b.2 })
+            }
+            (a, b) => a.or(b).map(|x| x.2),
+        }
     }
 }
 

@@ -132,15 +132,13 @@ fn an_object_behind_a_wall_is_not_in_the_image() {
     let world = World::new(env, Path::new(".")).unwrap();
     let camera = Camera::from(&world.env.camera);
     let cone = ViewCone::new(Pose2D::new(0.75, 1.25, 0.0), 0.0, 0.0, 1.0);
-    let image = ImageGeometry::default();
     let s = world_scene(
         &world,
         &world.walls,
         &knowledge(),
         &camera,
         &cone,
-        &image,
-        1.0,
+        &crate::sim_robot::ImageConfig::default(),
     );
     let classes: Vec<&str> = s.objects.iter().map(|o| o.class.as_str()).collect();
     assert_eq!(classes, ["cerealbox"]);
@@ -161,8 +159,7 @@ fn an_object_behind_a_wall_is_not_in_the_image() {
         &knowledge(),
         &camera,
         &back,
-        &image,
-        1.0,
+        &crate::sim_robot::ImageConfig::default(),
     );
     assert!(s.objects.is_empty());
 }
@@ -274,8 +271,7 @@ fn a_robots_images_count_their_processing_time_and_change_nothing_else_it_draws(
         &knowledge,
         &camera,
         &view,
-        &image,
-        1.0,
+        &crate::sim_robot::ImageConfig::default(),
     );
     let cereal = s.objects.iter().find(|o| o.class == "cerealbox").unwrap();
     assert_eq!(cereal.width, 0.07);
@@ -308,4 +304,61 @@ fn a_robots_images_count_their_processing_time_and_change_nothing_else_it_draws(
     let e = a.recognise(&view, "unicorn").unwrap_err();
     assert_eq!(e.reason, FailureReason::InvalidRequest);
     assert_eq!(a.images(), 2);
+}
+
+#[test]
+fn a_long_thin_object_shows_the_side_the_recogniser_matches_best_until_seen_end_on() {
+    let camera = Camera::default();
+    let image = ImageGeometry::default();
+    let model = ImageModel::default();
+    // A marker (13 × 2 × 2 cm) at the camera's height, its front facing +x.
+    let marker = BoxObject {
+        class: "whiteboardmarker".into(),
+        base: Point3 {
+            x: 0.0,
+            y: 0.0,
+            z: camera.height - 0.01,
+        },
+        yaw: 0.0,
+        size: [0.13, 0.02, 0.02],
+        lookalike: false,
+    };
+    // A zoomed camera 1 m away, `off` degrees round from the marker's front, looking at it.
+    let seen = |off: f64| {
+        let a = off.to_radians();
+        let (x, y) = (a.cos(), a.sin());
+        let cone = ViewCone::new(Pose2D::new(x, y, 0.0), (-y).atan2(-x), 0.0, 4.0);
+        let face = marker.seen_face(&model, &camera, &cone, &image).unwrap();
+        let share = face_image(&face, &camera, &cone, &image)
+            .map(|f| model.match_share(f.size_px(), f.view_angle))
+            .unwrap();
+        (face.width, share)
+    };
+    // Straight on and 60° round (nearer the end in angle than the front is, but the long side
+    // still matches): the long side. The side nearest in angle would be the 2 cm end.
+    for off in [0.0, 60.0, -60.0, 120.0, 180.0] {
+        let (w, share) = seen(off);
+        assert_eq!(w, 0.13, "{off}°");
+        assert!(share > 0.0, "{off}°");
+    }
+    // Nearly end-on the long side is beyond the recogniser's angle: the end (its best) is shown.
+    for off in [85.0, -85.0, 95.0] {
+        assert_eq!(seen(off).0, 0.02, "{off}°");
+    }
+    // The choice is the better of the two: the long side 60° round matches more than the end.
+    let end = BoxObject {
+        size: [0.02, 0.13, 0.02],
+        yaw: std::f64::consts::FRAC_PI_2,
+        ..marker.clone()
+    };
+    let cone = ViewCone::new(
+        Pose2D::new(0.5, 0.866, 0.0),
+        (-0.866f64).atan2(-0.5),
+        0.0,
+        4.0,
+    );
+    assert_eq!(
+        end.seen_face(&model, &camera, &cone, &image).unwrap().width,
+        0.13
+    );
 }
