@@ -33,6 +33,14 @@
 //!   the one generated before look-alikes existed, byte for byte, and with any rate the rest
 //!   of the floor (rooms, doors, furniture, targets) is unchanged; look-alikes only append
 //!   objects.
+//! * **Targets turned any way.** Every object with `role: target` (on the floor or on a
+//!   landmark) gets a yaw uniform in [0°, 360°), from a stream of its own
+//!   ([`ORIENTATION_STREAM`]), as the look-alikes do: a camera that sees an object's sides
+//!   (`crate::image`) or a detector whose score follows the aspect (`crate::world_scores`)
+//!   meets it from a random side. With every target at yaw 0, each long, thin object lay
+//!   along the y axis, so on every floor a marker was end-on to any robot north or south of
+//!   it. Furniture keeps its axis-aligned footprint (against walls). The one-shot detector and
+//!   the laser do not see a target's yaw: a floor's runs with that detector are unchanged.
 
 use avs_format::environment::{
     AsciiMap, Camera, Door, Environment, EnvironmentKind, Laser, MapSource, Object, ObjectRole,
@@ -50,8 +58,11 @@ pub const DEFAULT_LOOKALIKES_PER_ROOM: f64 = 0.5;
 pub const MAX_LOOKALIKES_PER_ROOM: f64 = 10.0;
 
 /// The `ChaCha8Rng` stream (of the floor's seed) look-alikes are drawn from; everything else
-/// uses stream 0.
+/// uses stream 0 (and [`ORIENTATION_STREAM`]).
 pub const LOOKALIKE_STREAM: u64 = 0x100c_a1ce;
+
+/// The `ChaCha8Rng` stream (of the floor's seed) the targets' yaws are drawn from.
+pub const ORIENTATION_STREAM: u64 = 0x0_7a11;
 
 /// What to generate.
 #[derive(Debug, Clone, PartialEq)]
@@ -517,6 +528,12 @@ pub fn generate(
                 }
             }
         }
+    }
+    // Targets turned any way (module docs), from a stream of their own.
+    let mut turn = ChaCha8Rng::seed_from_u64(params.seed);
+    turn.set_stream(ORIENTATION_STREAM);
+    for o in objects.iter_mut().filter(|o| o.role == ObjectRole::Target) {
+        o.pose.yaw_deg = turn.gen_range(0.0..360.0);
     }
 
     let ascii: String = grid

@@ -1,6 +1,7 @@
 //! Look-alikes on generated floors (`GenerateParams::lookalikes_per_room`): at rate 0 a floor
-//! is byte for byte the floor generated before look-alikes existed; at the default rate they
-//! only append distractors, which appear on many floors, and leave the rest unchanged.
+//! is byte for byte the floor generated before look-alikes existed (but for the targets' yaws,
+//! drawn since from a stream of their own); at the default rate they only append distractors,
+//! which appear on many floors, and leave the rest unchanged.
 
 use avs_format::environment::{Environment, ObjectRole};
 use avs_format::knowledge::Knowledge;
@@ -68,9 +69,10 @@ const fn golden(
 }
 
 #[test]
-fn lookalikes_at_zero_leave_the_floor_byte_identical_to_before_lookalikes() {
+fn lookalikes_at_zero_leave_the_floor_byte_identical_to_before_lookalikes_but_for_target_yaws() {
     use Placement::{AsKnowledge, Unlikely};
-    // Measured with the generator of commit 6fc4378, before look-alikes.
+    // Measured with the generator of commit 6fc4378, before look-alikes (and before targets
+    // were turned: their yaw is set back to that generator's 0 below).
     let floors = [
         golden("office", 0, 4, None, AsKnowledge, 0xdb7dfd8e7c3e57ce, 14826),
         golden("office", 7, 5, None, AsKnowledge, 0xbebb94d5bbfa0496, 17307),
@@ -124,7 +126,14 @@ fn lookalikes_at_zero_leave_the_floor_byte_identical_to_before_lookalikes() {
     ];
     for g in floors {
         let p = params(g.seed, g.rooms, g.ensure, g.placement);
-        let env = generate(&knowledge(g.knowledge), &p).unwrap();
+        let mut env = generate(&knowledge(g.knowledge), &p).unwrap();
+        for o in env
+            .objects
+            .iter_mut()
+            .filter(|o| o.role == ObjectRole::Target)
+        {
+            o.pose.yaw_deg = 0.0;
+        }
         let yaml = serde_yaml::to_string(&env).unwrap();
         assert_eq!(
             (fnv(&yaml), yaml.len()),
@@ -235,5 +244,47 @@ fn lookalike_rate_out_of_range_is_rejected_with_the_field_named() {
         };
         let e = generate(&k, &p).unwrap_err().to_string();
         assert!(e.contains("lookalikes_per_room"), "{e}");
+    }
+}
+
+#[test]
+fn targets_are_turned_any_way_from_a_stream_of_their_own() {
+    let k = knowledge("office");
+    let mut yaws = Vec::new();
+    for seed in 0..20u64 {
+        let plain = params(seed, 4, Some("whiteboardmarker"), Placement::AsKnowledge);
+        let with = GenerateParams {
+            lookalikes_per_room: 2.0,
+            ..plain.clone()
+        };
+        let a = generate(&k, &plain).unwrap();
+        let b = generate(&k, &with).unwrap();
+        let targets = |e: &Environment| -> Vec<(String, f64)> {
+            e.objects
+                .iter()
+                .filter(|o| o.role == ObjectRole::Target)
+                .map(|o| (o.id.clone(), o.pose.yaw_deg))
+                .collect()
+        };
+        // Look-alikes draw from their own stream: the targets' yaws do not follow the rate.
+        assert_eq!(targets(&a), targets(&b), "seed {seed}");
+        yaws.extend(targets(&a).into_iter().map(|(_, y)| y));
+        // Landmarks keep their axis-aligned footprints.
+        assert!(a
+            .objects
+            .iter()
+            .filter(|o| o.role == ObjectRole::Landmark)
+            .all(|o| o.pose.yaw_deg == 0.0));
+    }
+    assert!(yaws.len() > 40, "{}", yaws.len());
+    assert!(yaws.iter().all(|y| (0.0..360.0).contains(y)));
+    // Uniform: each quarter of the circle holds some of them.
+    for q in 0..4 {
+        let lo = 90.0 * f64::from(q);
+        let n = yaws
+            .iter()
+            .filter(|&&y| (lo..lo + 90.0).contains(&y))
+            .count();
+        assert!(n * 8 > yaws.len(), "quarter {q}: {n} of {}", yaws.len());
     }
 }
