@@ -13,13 +13,13 @@
 //!   that add up to 90°; the face in the image is the one of the two on which the recogniser
 //!   matches the larger share of its model ([`ImageModel::match_share`]: apparent size and
 //!   angle), as a recogniser matching against four training views reports its best; when it
-//!   matches neither (too far, too small), the one facing the camera more squarely. A keypoint's scale
-//!   follows the object's pixels per metre whichever side it is on. So a long, thin object
-//!   (a marker: 13 × 2 cm) is recognised by its long side until it is seen nearly end-on
-//!   (until its long side's angle nears [`ImageModel::max_view_angle`]), not only within 45°
-//!   of it: choosing the side nearest in angle alone made a marker 2 cm wide from half the
-//!   directions, which the pipeline's calibration (one face, turned towards the camera) does
-//!   not measure.
+//!   matches neither (too far, too small), the one facing the camera more squarely
+//!   ([`BoxObject::seen_face`]). A keypoint's scale follows the object's pixels per metre
+//!   whichever side it is on. So a long, thin object (a marker: 13 × 2 cm) is recognised by
+//!   its long side until it is seen nearly end-on (until its long side's angle nears
+//!   [`ImageModel::max_view_angle`]), not only within 45° of it: the side nearest in angle
+//!   alone made a marker 2 cm wide from half the directions. The zoom pipeline's calibration
+//!   (`avs_eval::zoom_sensing`) turns its objects every way through the same rule.
 //! * **Look-alikes.** An object with `role: distractor` is a look-alike of every other class
 //!   ([`SceneObject::lookalike`]), as in [`crate::world_scores`] (whose exclusion of landmark
 //!   classes is not kept: the zoom pipeline searches for objects, not furniture). The
