@@ -307,7 +307,7 @@ pub(crate) fn room_points(
 /// ([`crate::AgentConfig::measured_sensing`], the zoom pipeline's) every level it was measured
 /// at too, each with its measured range — a zoomed look of the pipeline reaches less than the
 /// zoom times its unzoomed range, and a class whose unzoomed range is short (a marker: 0.25–
-/// 0.75 m) is looked for from afar only through the zoom. Otherwise a level's range is the
+/// 0.71 m) is looked for from afar only through the zoom. Otherwise a level's range is the
 /// zoom times the unzoomed one. Of each range only the nearer part counts: at its far end the
 /// detector misses most of the time ([`Tuning::cover_range_share`](crate::config::Tuning)).
 /// Measured levels beyond the camera's `max_zoom` are left out.
