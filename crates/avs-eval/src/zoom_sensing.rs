@@ -196,29 +196,32 @@ pub fn measure(
     let mut out = Vec::new();
     for class in knowledge.object_classes.iter().filter(|c| !c.landmark) {
         let models = [ObjectModel::from_class(class)];
-        let look = |objects: Vec<SceneObject>, depth: f64, zoom: f64, rng: &mut ChaCha8Rng| {
-            let mut robot = SceneRobot {
-                scene: ImageScene {
-                    objects,
-                    background: Background {
-                        clutter: 1.0,
-                        depth,
+        let look =
+            |objects: Vec<SceneObject>, depth: f64, cone: &ViewCone, rng: &mut ChaCha8Rng| {
+                let mut robot = SceneRobot {
+                    scene: ImageScene {
+                        objects,
+                        background: Background {
+                            clutter: 1.0,
+                            depth,
+                        },
                     },
-                },
-                grid: &grid,
-                camera: *camera,
-                image: config.image,
-                model,
-                appearances: &appearances,
-                rng: ChaCha8Rng::seed_from_u64(rng.gen()),
+                    grid: &grid,
+                    camera: *camera,
+                    image: config.image,
+                    model,
+                    appearances: &appearances,
+                    rng: ChaCha8Rng::seed_from_u64(rng.gen()),
+                };
+                three_step_search(&mut robot, cone, &models, config)
+                    .map(|o| o.found)
+                    .unwrap_or_default()
             };
-            let cone = ViewCone::new(Pose2D::new(0.0, 0.0, 0.0), 0.0, 0.0, zoom);
-            three_step_search(&mut robot, &cone, &models, config)
-                .map(|o| o.found)
-                .unwrap_or_default()
-        };
         let mut by_zoom = Vec::new();
+        // A camera at the origin looking along +x at `zoom`.
+        let ahead = |zoom: f64| ViewCone::new(Pose2D::new(0.0, 0.0, 0.0), 0.0, 0.0, zoom);
         for zoom in avs_view::view_zooms(camera.max_zoom) {
+            let cone = ahead(zoom);
             let ds = distances(zoom);
             let mut found = Vec::with_capacity(ds.len());
             for &d in &ds {
@@ -242,12 +245,11 @@ pub fn measure(
                         lookalike: false,
                     };
                     let depth = d + rng.gen_range(0.5..2.0);
-                    let cone = ViewCone::new(Pose2D::new(0.0, 0.0, 0.0), 0.0, 0.0, zoom);
                     let faces = object
                         .seen_face(model, camera, &cone, &config.image)
                         .into_iter()
                         .collect();
-                    let seen = look(faces, depth, zoom, &mut rng);
+                    let seen = look(faces, depth, &cone, &mut rng);
                     let hit = seen.iter().any(|r| {
                         r.class == class.name
                             && (r.position.x - centre.x)
@@ -268,7 +270,7 @@ pub fn measure(
         let mut false_hits = 0usize;
         for _ in 0..looks {
             let depth = rng.gen_range(1.0..6.0);
-            false_hits += usize::from(!look(Vec::new(), depth, 1.0, &mut rng).is_empty());
+            false_hits += usize::from(!look(Vec::new(), depth, &ahead(1.0), &mut rng).is_empty());
         }
         let false_alarms = false_hits as f64 / looks.max(1) as f64;
         let sensing = derive(&class.name, &by_zoom, false_alarms);
