@@ -118,6 +118,10 @@
 //!   it came through, a corridor's far end would be filed as explored from its first metre);
 //!   go on 1.5 m into the space beyond (on a short known
 //!   path) only where that reveals at least `min_open_area` of unknown space, and turn around.
+//!   The unknown space a point reveals is `avs_map::explore::new_area`'s polar integral over
+//!   the rays, not a count of the cells they touch: counted in cells, a shadow behind a desk
+//!   grew with the map's cell size and the same office sent the robot on at 0.25 m cells and
+//!   not at 0.125 m (`avs-eval/tests/resolution.rs`).
 //!   A placeholder is a frontier — where the laser, looking in from outside, last saw free
 //!   space, often the room's far wall — and a robot a step inside the door sees the room
 //!   (laser all around, the look-around's pan). The first version drove to the frontier, on

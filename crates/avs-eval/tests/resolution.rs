@@ -2,13 +2,15 @@
 //! at 0.25 m cells and, cell for cell, at 0.125 m (each cell split in four) segments into the
 //! same rooms, separated by the same doors; and with its furniture rasterised at each
 //! resolution by the simulator, the place map keeps the same doors — no door found at one
-//! resolution and missed at the other, no room split at a gap beside furniture at one of them.
+//! resolution and missed at the other, no room split at a gap beside furniture at one of them;
+//! and the robot's search for the cerealbox in it takes the same path, typically, at both.
 
 use avs_format::environment::{Environment, MapSource};
 use avs_map::doors::{detect_doors, DoorHypothesis, DoorParams};
 use avs_map::grid::Cell;
 use avs_map::places::{dist, in_a_wall};
 use avs_map::segment::{segment_rooms, SegmentParams, Segmentation};
+use avs_sim::sim_robot::{SimAgentRobot, SimRobotConfig};
 use avs_sim::World;
 use std::path::{Path, PathBuf};
 
@@ -154,4 +156,52 @@ fn the_office_at_a_quarter_and_an_eighth_of_a_metre_has_the_same_rooms_and_doors
     // what keeps office2 one room.
     let raw = detect_doors(&fine.truth, &DoorParams::default());
     assert!(raw.len() > db.len(), "{raw:?}");
+}
+
+/// The path of the default agent's cerealbox search in `world` from the environment's start,
+/// seed `seed`, metres (the search must find it).
+fn search_path(world: &World, seed: u64) -> f64 {
+    let knowledge: avs_format::knowledge::Knowledge =
+        avs_format::load_yaml(&shipped("knowledge/office.yaml")).unwrap();
+    let domain = avs_plan::domain::Domain::load(&shipped("domains/object_search.yaml")).unwrap();
+    let mut robot =
+        SimAgentRobot::new(world, knowledge.clone(), SimRobotConfig::default(), seed).unwrap();
+    let mut agent =
+        avs_agent::Agent::new(domain, knowledge, avs_agent::AgentConfig::default()).unwrap();
+    let report = agent
+        .search(&mut robot, avs_agent::Goal::find("cerealbox"))
+        .unwrap();
+    assert!(
+        report.found.is_some(),
+        "seed {seed} at {} m cells: {}",
+        world.truth.resolution(),
+        report.reason
+    );
+    report.metrics.path_length
+}
+
+fn median(mut xs: Vec<f64>) -> f64 {
+    xs.sort_by(f64::total_cmp);
+    let n = xs.len();
+    0.5 * (xs[(n - 1) / 2] + xs[n / 2])
+}
+
+#[test]
+fn the_search_path_is_the_same_at_a_quarter_and_an_eighth_of_a_metre() {
+    // Over seeds 1–10, the median path at 0.25 m cells within 10 % of the one at 0.125 m. A
+    // single seed may part by chance at either resolution (a landmark missed in a look-around,
+    // a false alarm: seed 6 wanders at both); a map that makes the robot decide otherwise
+    // shifts them all. That happened when the unknown space ENTER weighs beyond a door was
+    // counted in cells a ray touched: at 0.25 m a shadow behind office1's desk counted 1.19 m²
+    // (0.67 m² at 0.125 m), over the 1 m² that sends the robot on, and every coarse search
+    // went 3.5 m further (medians 16.1 and 12.7 m).
+    let (coarse, fine) = (office_at(0.25, 1), office_at(0.25, 2));
+    let seeds = 1..=10;
+    let a: Vec<f64> = seeds.clone().map(|s| search_path(&coarse, s)).collect();
+    let b: Vec<f64> = seeds.map(|s| search_path(&fine, s)).collect();
+    let (ma, mb) = (median(a.clone()), median(b.clone()));
+    assert!(
+        (ma - mb).abs() <= 0.1 * mb,
+        "median {ma:.1} m at 0.25 m cells, {mb:.1} m at 0.125 m\n{a:.1?}\n{b:.1?}"
+    );
 }

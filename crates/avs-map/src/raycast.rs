@@ -36,6 +36,19 @@ pub fn walk_segment(
     b: [f64; 2],
     mut visit: impl FnMut(i64, i64) -> bool,
 ) -> bool {
+    walk_segment_spans(grid, a, b, |c, r, _| visit(c, r))
+}
+
+/// [`walk_segment`] with the part of the segment inside each cell: `visit(col, row, [t0, t1])`
+/// where `a + t·(b − a)` for `t` in `[t0, t1] ⊆ [0, 1]` lies in the cell (the first cell
+/// starts at 0, the cell of `b` ends at 1). What a ray sees of a region is then measured in
+/// lengths along the ray, not in cells touched, and does not grow with the cell size.
+pub fn walk_segment_spans(
+    grid: &OccupancyGrid,
+    a: [f64; 2],
+    b: [f64; 2],
+    mut visit: impl FnMut(i64, i64, [f64; 2]) -> bool,
+) -> bool {
     let r = grid.resolution();
     let o = grid.origin();
     let (mut c, mut row) = grid.world_to_cell(a[0], a[1]);
@@ -73,13 +86,21 @@ pub fn walk_segment(
         .abs_diff(c)
         .saturating_add(er.abs_diff(row))
         .saturating_add(1);
+    let mut t_in = 0.0_f64;
     for _ in 0..max_steps {
-        if !visit(c, row) {
+        let last = c == ec && row == er;
+        let t_out = if last {
+            1.0
+        } else {
+            t_max_c.min(t_max_r).clamp(t_in, 1.0)
+        };
+        if !visit(c, row, [t_in, t_out]) {
             return false;
         }
-        if c == ec && row == er {
+        if last {
             return true;
         }
+        t_in = t_out;
         if t_max_c < t_max_r {
             t_max_c += t_delta_c;
             c += step_c;

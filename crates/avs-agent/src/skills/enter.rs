@@ -65,6 +65,11 @@ pub(crate) fn enter<R: Robot + ?Sized>(
                 })
                 .filter_map(|b| {
                     let area = avs_map::explore::new_area(&grid, b, t.enter_depth * 2.0);
+                    tracing::debug!(
+                        ?b,
+                        area,
+                        "ENTER: unknown area seen from a point beyond the door"
+                    );
                     (area >= t.min_open_area).then_some((b, area + dist(b, from)))
                 })
                 .fold(None, |best: Option<([f64; 2], f64)>, (b, sc)| match best {
