@@ -259,8 +259,10 @@
 //!   seen there was filed under the corridor.
 //! * **Looking around** pans half a field of view at a time (every direction is in two views)
 //!   and counts a landmark only when two sightings agree within 0.7 m; a landmark seen once is
-//!   looked at again through a view centred on it (the simulated detector's false alarms fall
-//!   anywhere in a view; a real object shows again with probability 1 − FN).
+//!   looked at again through views centred on it, until it shows again or as many looks are
+//!   spent as a real one needs to show again with probability 0.95 (two for FN 0.2; the
+//!   simulated detector's false alarms fall anywhere in a view). With one centred look a fifth
+//!   of the real landmarks seen once were lost (25 of 229 on 60 bench floors).
 //! * **Motion** follows the agent's own shortest path on the known map, in 0.5 m waypoints, so the
 //!   place map sees every door crossing; a waypoint that costs more than three times its straight
 //!   length (plus 1 m) means the known map was wrong, and the robot stops there (a failure).

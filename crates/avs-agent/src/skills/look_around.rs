@@ -67,27 +67,35 @@ pub(crate) fn look_around<R: Robot + ?Sized>(
     }
     // The views overlap: a real landmark is seen more than once, a false alarm rarely. A
     // sighting seen once is looked at again through a view centred on it (where the
-    // detector is at its best): a real landmark shows again with probability 1 − FN, a
-    // false alarm within the cluster radius of the first only by chance.
+    // detector is at its best), as often as a real landmark needs to show again with
+    // probability at least `LANDMARK_SHOWS_AGAIN` ([`relooks`]): a false alarm shows again
+    // within the cluster radius of the first only by chance.
+    let relooks = relooks(cx.knowledge.sensor.false_negative);
+    for (d, n) in &clusters {
+        tracing::debug!(class = %d.class, x = d.pose.x, y = d.pose.y, sightings = n, "look-around sighting");
+    }
     let mut confirmed = Vec::new();
     for (d, mut n) in clusters {
         if n < t.look_min_sightings {
             let (pan, tilt) = cam.aim(pose, d.pose);
-            let again = body
-                .look(
-                    &ViewCone::new(pose, pan, tilt, 1.0),
-                    std::slice::from_ref(&d.class),
-                )
-                .map(|r| {
-                    r.detections.iter().any(|e| {
-                        e.class == d.class
-                            && e.confidence >= confirm
-                            && e.pose.planar_distance(d.pose.x, d.pose.y) < t.look_cluster
+            for _ in 0..relooks {
+                let again = body
+                    .look(
+                        &ViewCone::new(pose, pan, tilt, 1.0),
+                        std::slice::from_ref(&d.class),
+                    )
+                    .map(|r| {
+                        r.detections.iter().any(|e| {
+                            e.class == d.class
+                                && e.confidence >= confirm
+                                && e.pose.planar_distance(d.pose.x, d.pose.y) < t.look_cluster
+                        })
                     })
-                })
-                .unwrap_or(false);
-            if again {
-                n += 1;
+                    .unwrap_or(false);
+                if again {
+                    n += 1;
+                    break;
+                }
             }
         }
         if n >= t.look_min_sightings {
@@ -163,6 +171,26 @@ pub(crate) fn look_around<R: Robot + ?Sized>(
     Ok(())
 }
 
+/// How likely a real landmark seen once in the look-around must be to show again in the
+/// centred looks it is given: an expert's choice (the papers look once). With one centred
+/// look (1 − FN = 0.8) a fifth of the real landmarks seen in one view were lost — 25 of 229
+/// on 60 bench floors — and a room without its table reads as another category.
+const LANDMARK_SHOWS_AGAIN: f64 = 0.95;
+
+/// The centred looks a sighting seen once gets: the fewest `k` with `1 − FN^k ≥`
+/// [`LANDMARK_SHOWS_AGAIN`] (two for the knowledge's FN 0.2), at least one; one when the
+/// detector never misses, and at most 8 for a detector that nearly always does.
+fn relooks(false_negative: f64) -> usize {
+    if false_negative.is_nan() || false_negative <= 0.0 {
+        return 1;
+    }
+    if false_negative >= 1.0 {
+        return 8;
+    }
+    let k = ((1.0 - LANDMARK_SHOWS_AGAIN).ln() / false_negative.ln()).ceil();
+    (k as usize).clamp(1, 8)
+}
+
 /// Look around in the room the robot is in unless that was done before; a failure is noted
 /// in the trace, not an error.
 pub(crate) fn look_around_if_new<R: Robot + ?Sized>(
@@ -183,6 +211,7 @@ mod tests {
     use super::*;
     use crate::skills::testing::{self, object};
     use crate::AgentConfig;
+    use avs_robot::ScriptedRobot;
 
     #[test]
     fn a_table_seen_in_overlapping_views_becomes_a_landmark_of_the_room() {
@@ -232,6 +261,56 @@ mod tests {
         assert!(views
             .iter()
             .all(|v| config.tuning.look_tilts.contains(&v.tilt)));
+    }
+
+    /// The pan's views, all scripted: the first sees `first`, the rest nothing; how many.
+    fn script_pan(robot: &mut ScriptedRobot, first: Detection) -> usize {
+        let cam = robot.camera();
+        let n = (std::f64::consts::TAU / (0.5 * cam.hfov)).ceil() as usize
+            * AgentConfig::default().tuning.look_tilts.len();
+        robot.script_view(Ok(vec![first]));
+        for _ in 1..n {
+            robot.script_view(Ok(Vec::new()));
+        }
+        n
+    }
+
+    #[test]
+    fn centred_looks_at_a_landmark_seen_once_go_on_until_it_shows_again_or_the_budget_ends() {
+        // Two for the knowledge's 0.2: 1 − 0.2² = 0.96 ≥ 0.95; five for 0.5 (1 − 0.5⁵ ≈ 0.97,
+        // 1 − 0.5⁴ ≈ 0.94); one for a detector that never misses.
+        assert_eq!(relooks(0.2), 2);
+        assert_eq!(relooks(0.5), 5);
+        assert_eq!(relooks(0.0), 1);
+        assert_eq!(relooks(f64::NAN), 1);
+        assert_eq!(relooks(1.0), 8);
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        assert_eq!(k.sensor.false_negative, 0.2);
+        let table = object("table", 3.5, 2.0, 0.75);
+        // A real table seen in one view of the pan and missed by the first centred look: the
+        // second shows it (with one centred look it was lost).
+        let mut robot = testing::robot(testing::room(5.0, 4.0), [1.5, 2.0]);
+        robot.place(table.clone());
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let pan = script_pan(&mut robot, table.clone());
+        robot.script_view(Ok(Vec::new()));
+        let mut sink = testing::sink();
+        let mut run = testing::run(&mut sink);
+        let cx = testing::ctx(&k, &config);
+        let before = robot.views().len();
+        look_around(cx, &mut mem, &mut Body::new(&mut robot), &mut run).unwrap();
+        assert_eq!(mem.objects.len(), 1, "{:?}", mem.objects);
+        assert_eq!(robot.views().len() - before, pan + 2, "two centred looks");
+        // A false alarm seen once (nothing there): two centred looks, then it is dropped.
+        let mut robot = testing::robot(testing::room(5.0, 4.0), [1.5, 2.0]);
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        assert_eq!(script_pan(&mut robot, table), pan);
+        let mut sink = testing::sink();
+        let mut run = testing::run(&mut sink);
+        let before = robot.views().len();
+        look_around(cx, &mut mem, &mut Body::new(&mut robot), &mut run).unwrap();
+        assert!(mem.objects.is_empty(), "{:?}", mem.objects);
+        assert_eq!(robot.views().len() - before, pan + 2);
     }
 
     /// A second look around in a room (the start of a second goal, from another place) sees
