@@ -6,10 +6,9 @@
 //! the sensor's range) counts as the area of its slice of the fan: a ray of angular width Δθ
 //! crossing unknown space from distance s₀ to s₁ adds Δθ·(s₁² − s₀²)/2, the polar integral of the
 //! visible unknown area. Counting every unknown cell a ray touched instead made the estimate grow
-//! with the cell size (each cell on the boundary of a shadow counted whole): behind a desk the
-//! same 0.67 m² wedge counted 1.19 m² at 0.25 m cells and 0.67 m² at 0.125 m, on either side of
-//! the 1 m² an agent asks of the space beyond a door, so the robot's path depended on its map's
-//! resolution. C is the travel distance over known free space (Dijkstra from the
+//! with the cell size (each cell on the boundary of a shadow counted whole): one shadow behind a
+//! desk counted 1.19 m² at 0.25 m cells and 0.67 m² at 0.125 m, on either side of the 1 m² an
+//! agent asks of the space beyond a door, so the robot's path depended on its map's resolution. C is the travel distance over known free space (Dijkstra from the
 //! robot, [`crate::nav::distance_field`]), floored at `min_cost` so a candidate at the robot's
 //! feet does not get infinite utility.
 
