@@ -5,6 +5,7 @@
 //! resolution and missed at the other, no room split at a gap beside furniture at one of them;
 //! and the robot's search for the cerealbox in it takes the same path, typically, at both.
 
+use avs_eval::stats::median;
 use avs_format::environment::{Environment, MapSource};
 use avs_map::doors::{detect_doors, DoorHypothesis, DoorParams};
 use avs_map::grid::Cell;
@@ -180,12 +181,6 @@ fn search_path(world: &World, seed: u64) -> f64 {
     report.metrics.path_length
 }
 
-fn median(mut xs: Vec<f64>) -> f64 {
-    xs.sort_by(f64::total_cmp);
-    let n = xs.len();
-    0.5 * (xs[(n - 1) / 2] + xs[n / 2])
-}
-
 #[test]
 fn the_search_path_is_the_same_at_a_quarter_and_an_eighth_of_a_metre() {
     // Over seeds 1–10, the median path at 0.25 m cells within 10 % of the one at 0.125 m. A
@@ -199,7 +194,7 @@ fn the_search_path_is_the_same_at_a_quarter_and_an_eighth_of_a_metre() {
     let seeds = 1..=10;
     let a: Vec<f64> = seeds.clone().map(|s| search_path(&coarse, s)).collect();
     let b: Vec<f64> = seeds.map(|s| search_path(&fine, s)).collect();
-    let (ma, mb) = (median(a.clone()), median(b.clone()));
+    let (ma, mb) = (median(&a), median(&b));
     assert!(
         (ma - mb).abs() <= 0.1 * mb,
         "median {ma:.1} m at 0.25 m cells, {mb:.1} m at 0.125 m\n{a:.1?}\n{b:.1?}"

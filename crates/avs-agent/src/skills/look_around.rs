@@ -38,7 +38,7 @@ pub(crate) fn look_around<R: Robot + ?Sized>(
     let mut dets: Vec<Detection> = Vec::new();
     // Pans half a field of view apart: every direction is in two views, so that a real
     // landmark can collect the sightings that a false alarm rarely does.
-    let n_views = (std::f64::consts::TAU / (0.5 * cam.hfov).max(0.05)).ceil() as usize;
+    let n_views = pan_views(&cam);
     let mut failed = 0;
     for k in 0..n_views {
         let pan = cam
@@ -171,6 +171,11 @@ pub(crate) fn look_around<R: Robot + ?Sized>(
     Ok(())
 }
 
+/// The pans of a look-around: half a field of view apart over the full circle.
+fn pan_views(cam: &avs_robot::Camera) -> usize {
+    (std::f64::consts::TAU / (0.5 * cam.hfov).max(0.05)).ceil() as usize
+}
+
 /// How likely a real landmark seen once in the look-around must be to show again in the
 /// centred looks it is given: an expert's choice (the papers look once). With one centred
 /// look (1 − FN = 0.8) a fifth of the real landmarks seen in one view were lost — 25 of 229
@@ -265,9 +270,7 @@ mod tests {
 
     /// The pan's views, all scripted: the first sees `first`, the rest nothing; how many.
     fn script_pan(robot: &mut ScriptedRobot, first: Detection) -> usize {
-        let cam = robot.camera();
-        let n = (std::f64::consts::TAU / (0.5 * cam.hfov)).ceil() as usize
-            * AgentConfig::default().tuning.look_tilts.len();
+        let n = pan_views(&robot.camera()) * AgentConfig::default().tuning.look_tilts.len();
         robot.script_view(Ok(vec![first]));
         for _ in 1..n {
             robot.script_view(Ok(Vec::new()));
