@@ -465,9 +465,6 @@ impl AgentConfig {
 /// The defaults are what every figure in BENCHMARKS.md was measured with.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Tuning {
-    /// Camera tilts of a look-around, radians (the horizon band and the floor and furniture
-    /// tops near the robot).
-    pub look_tilts: [f64; 2],
     /// Placeholders with less unknown open area behind them cannot hide a room and are
     /// ignored, m².
     pub min_open_area: f64,
@@ -575,7 +572,6 @@ pub struct Tuning {
 impl Default for Tuning {
     fn default() -> Self {
         Self {
-            look_tilts: [-0.15, -0.5],
             min_open_area: 1.0,
             at_place: 0.6,
             detour_factor: 3.0,

@@ -142,8 +142,10 @@
 //!   (`avs_map::nav::Traversability::nearest_ok`); a placeholder just inside a kitchen, nearer
 //!   the robot's radius to the wall than it may stand, used to snap into the corridor behind
 //!   the wall at 0.25 m cells (not at 0.125 m), and the robot never entered the kitchen.
-//! * **Looking around** on entering a room: a pan over the full circle at two tilts for the
-//!   landmark classes; new landmarks seen in the same room become in/on locations, and the
+//! * **Looking around** on entering a room: a pan over the full circle for the landmark
+//!   classes, at the tilts that hold every landmark the robot can see in the central half of
+//!   an image (`skills::look_around::look_tilts`, the tilt rule of `004` §2.1.5 over the
+//!   elevations of the landmark classes' centres); new landmarks seen in the same room become in/on locations, and the
 //!   counts of instances no earlier look around counted are object-count evidence on the
 //!   room's category with a coverage of 0.8 (eq. 1 thinned, and thinned again by the earlier
 //!   looks: `avs_concepts`' *Object counts*). A sighting is in the same room when the sight
@@ -257,8 +259,11 @@
 //!   nearest place in a straight line (the first choice) handed the far half of a room entered
 //!   only at its door to the corridor's places, so searches of the room missed it and a desk
 //!   seen there was filed under the corridor.
-//! * **Looking around** pans half a field of view at a time (every direction is in two views)
-//!   and counts a landmark only when two sightings agree within 0.7 m; a landmark seen once is
+//! * **Looking around** pans half a field of view at a time (every direction is in two views),
+//!   at tilts that likewise hold every landmark centre the robot can see in the central half
+//!   of some image's height (the tilt rule over the elevations the knowledge's landmark
+//!   classes can take; two tilts set by hand, −9° and −29°, put a table 0.9 m away at the
+//!   lower border of the lower image, and it was never counted), and counts a landmark only when two sightings agree within 0.7 m; a landmark seen once is
 //!   looked at again through views centred on it, until it shows again or as many looks are
 //!   spent as a real one needs to show again with probability 0.95 (two for FN 0.2; the
 //!   simulated detector's false alarms fall anywhere in a view). With one centred look a fifth

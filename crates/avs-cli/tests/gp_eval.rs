@@ -53,12 +53,13 @@ fn reference_file() -> Option<PathBuf> {
     None
 }
 
-fn temp_file(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("avs-gp-eval-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
+/// A file named `name` holding `text`, in a temporary directory of its own that is deleted
+/// when the returned handle is dropped.
+fn temp_file(name: &str, text: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(name);
     std::fs::write(&path, text).unwrap();
-    path
+    (dir, path)
 }
 
 fn floats(v: &Value) -> Vec<f64> {
@@ -158,7 +159,7 @@ const ONE_POINT: &str = r#"{"cases": [{
 fn one_training_point_gives_the_closed_form_answer() {
     // K = σ² = 2, α = y/2: mean(q) = e^{−q²/2}, var(q) = 2 − 2e^{−q²},
     // log p = −y²/4 − ½ ln 2 − ½ ln 2π, ∂/∂ log σ² = y²/4 − ½, ∂/∂ log l = 0.
-    let file = temp_file("one.json", ONE_POINT);
+    let (_dir, file) = temp_file("one.json", ONE_POINT);
     let cases = eval_json(file.to_str().unwrap(), &[]);
     assert_eq!(cases.len(), 1);
     let r = &cases[0];
@@ -190,7 +191,7 @@ fn a_fit_is_reproducible_for_a_seed() {
         "noise_variance_alpha": 1e-4, "fitted": true, "signal_variance": 1.0, "length_scale": [1.0],
         "bounds": {"signal_variance": [0.01, 100.0], "length_scale": [0.01, 100.0]}
     }]}"#;
-    let file = temp_file("fit.json", text);
+    let (_dir, file) = temp_file("fit.json", text);
     let f = file.to_str().unwrap();
     let a = eval_json(f, &["--seed", "5"]);
     let b = eval_json(f, &["--seed", "5"]);
@@ -202,7 +203,7 @@ fn a_fit_is_reproducible_for_a_seed() {
 
 /// Runs `avs gp eval` on `text` and returns stderr, asserting exit 1 and the file named once.
 fn fails(name: &str, text: &str) -> String {
-    let file = temp_file(name, text);
+    let (_dir, file) = temp_file(name, text);
     let f = file.to_str().unwrap();
     let o = avs(&["gp", "eval", f, "--json"]);
     let err = String::from_utf8_lossy(&o.stderr).into_owned();

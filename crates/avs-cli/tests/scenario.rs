@@ -12,24 +12,23 @@ fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("avs-scenario-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn temp_dir() -> tempfile::TempDir {
+    tempfile::tempdir().unwrap()
 }
 
 #[test]
 fn a_scenario_copied_elsewhere_runs_from_there_and_passes_with_exit_0() {
     // The file's paths are relative to the repository; neither the file's folder nor the
     // current directory has them.
-    let dir = temp_dir("copy");
+    let tmp = temp_dir();
+    let dir = tmp.path();
     let file = dir.join("stapler.yaml");
     std::fs::copy(
         repo().join("tests/plan_traces/fig3d_office_stapler.yaml"),
         &file,
     )
     .unwrap();
-    let out = avs_in(&dir, &["scenario", "stapler.yaml", "--json"]);
+    let out = avs_in(dir, &["scenario", "stapler.yaml", "--json"]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(
         out.status.code(),
@@ -81,7 +80,8 @@ fn seed_runs_each_file_once_per_seed_and_names_the_seed() {
 #[test]
 fn a_failing_property_prints_fail_and_exits_3() {
     // The stapler run with one more expectation it cannot meet.
-    let dir = temp_dir("fail");
+    let tmp = temp_dir();
+    let dir = tmp.path();
     let text = std::fs::read_to_string(repo().join("tests/plan_traces/fig3d_office_stapler.yaml"))
         .unwrap()
         .replace(
@@ -99,7 +99,8 @@ fn a_failing_property_prints_fail_and_exits_3() {
 
 #[test]
 fn a_scenario_that_cannot_be_run_exits_1_naming_the_file_and_field() {
-    let dir = temp_dir("bad");
+    let tmp = temp_dir();
+    let dir = tmp.path();
     let text = std::fs::read_to_string(repo().join("tests/plan_traces/fig3d_office_stapler.yaml"))
         .unwrap()
         .replace(
@@ -109,7 +110,7 @@ fn a_scenario_that_cannot_be_run_exits_1_naming_the_file_and_field() {
     assert!(text.contains("nowhere/office.yaml"), "the edit applies");
     let file = dir.join("nowhere.yaml");
     std::fs::write(&file, text).unwrap();
-    let out = avs_in(&dir, &["scenario", "nowhere.yaml"]);
+    let out = avs_in(dir, &["scenario", "nowhere.yaml"]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(

@@ -11,8 +11,8 @@ fn count(text: &str, s: &str) -> usize {
 
 #[test]
 fn the_search_picture_shows_every_look_of_the_trace_and_says_what_it_shows() {
-    let dir = std::env::temp_dir().join(format!("avs-search-picture-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
     let (svg, trace) = (dir.join("run.svg"), dir.join("run.jsonl"));
     let mut args = common::OFFICE_SEARCH.to_vec();
     args.extend([
@@ -134,5 +134,4 @@ fn the_search_picture_shows_every_look_of_the_trace_and_says_what_it_shows() {
         .count();
     assert!(looked_around > 0, "the agent looks around where it starts");
     assert!(pic.contains(">agent: corridor "), "the start's room belief");
-    std::fs::remove_dir_all(&dir).ok();
 }

@@ -184,12 +184,13 @@ fn same_seed_gives_the_same_trace_bytes_without_wall_times() {
     }
 }
 
-fn write_temp(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("avs-plan-traces-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
+/// A file named `name` holding `text`, in a temporary directory of its own that is deleted
+/// when the returned handle is dropped.
+fn write_temp(name: &str, text: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(name);
+    std::fs::write(&path, text).unwrap();
+    (dir, path)
 }
 
 const GOOD: &str = "kind: scenario
@@ -205,7 +206,7 @@ expect: { found: true }
 
 #[test]
 fn malformed_scenarios_are_errors_naming_the_file_and_the_field() {
-    let ok = write_temp("good.yaml", GOOD);
+    let (_dir, ok) = write_temp("good.yaml", GOOD);
     assert!(load_scenario(&ok).is_ok());
     let cases = [
         (
@@ -230,7 +231,7 @@ fn malformed_scenarios_are_errors_naming_the_file_and_the_field() {
         ),
     ];
     for (name, text, field) in cases {
-        let p = write_temp(name, &text);
+        let (_dir, p) = write_temp(name, &text);
         let e = load_scenario(&p).expect_err(name).to_string();
         assert!(
             e.contains(&p.display().to_string()) && e.contains(field),
@@ -239,7 +240,7 @@ fn malformed_scenarios_are_errors_naming_the_file_and_the_field() {
     }
     // Semantic errors name the field too.
     let root = repo_root();
-    let p = write_temp(
+    let (_dir, p) = write_temp(
         "unknown_door.yaml",
         &format!("{GOOD}close_doors: [door_kitchen, door_bathroom]\n"),
     );
@@ -253,7 +254,7 @@ fn malformed_scenarios_are_errors_naming_the_file_and_the_field() {
             && e.contains("door_bathroom"),
         "{e}"
     );
-    let p = write_temp(
+    let (_dir, p) = write_temp(
         "typo_room.yaml",
         &GOOD.replace(
             "expect: { found: true }",
@@ -268,7 +269,7 @@ fn malformed_scenarios_are_errors_naming_the_file_and_the_field() {
         e.contains("expect.never_searched_in[1]") && e.contains("ofice1"),
         "{e}"
     );
-    let p = write_temp(
+    let (_dir, p) = write_temp(
         "unknown_class.yaml",
         &format!("{GOOD}remove_objects: {{ classes: [unicorn] }}\n"),
     );
@@ -284,7 +285,7 @@ fn malformed_scenarios_are_errors_naming_the_file_and_the_field() {
 
 #[test]
 fn removing_a_landmark_removes_what_stands_on_it_and_closing_a_door_closes_it() {
-    let p = write_temp(
+    let (_dir, p) = write_temp(
         "edit.yaml",
         &format!(
             "{GOOD}remove_objects: {{ classes: [table] }}\nclose_doors: [door_kitchen]\nstart: \

@@ -1,5 +1,6 @@
-//! Looking around on entering a room: a pan over the full circle at two tilts for the landmark
-//! classes; landmarks seen twice (or seen again through a view centred on them) in the same
+//! Looking around on entering a room: a pan over the full circle for the landmark classes, at
+//! the tilts that keep every landmark the robot can see in the central half of an image
+//! ([`look_tilts`]); landmarks seen twice (or seen again through a view centred on them) in the same
 //! room become in/on locations, and their counts are object-count evidence on the room's
 //! category (Aydemir et al. 2011, `002` §III-A, eq. 1, thinned by the look's coverage).
 
@@ -32,8 +33,16 @@ pub(crate) fn look_around<R: Robot + ?Sized>(
         .filter(|c| c.landmark)
         .map(|c| c.name.clone())
         .collect();
+    // A landmark stands on the floor: a sighting whose centre is not within its class's
+    // height (give or take the noise two sightings of one landmark may differ by) is no
+    // landmark.
+    let stands = |d: &Detection| {
+        cx.knowledge.class(&d.class).is_some_and(|c| {
+            (d.pose.z - c.size[2] / 2.0).abs() <= c.size[2] / 2.0 + t.look_cluster / 2.0
+        })
+    };
     let cam = body.camera();
-    let tilts: Vec<f64> = t.look_tilts.iter().map(|&x| cam.clamp_tilt(x)).collect();
+    let tilts = look_tilts(cx.knowledge, &cam, cx.config.robot_radius);
     let pose = body.pose();
     let mut dets: Vec<Detection> = Vec::new();
     // Pans half a field of view apart: every direction is in two views, so that a real
@@ -45,7 +54,11 @@ pub(crate) fn look_around<R: Robot + ?Sized>(
             .clamp_pan(-std::f64::consts::PI + std::f64::consts::TAU * k as f64 / n_views as f64);
         for &tilt in &tilts {
             match body.look(&ViewCone::new(pose, pan, tilt, 1.0), &classes) {
-                Ok(r) => dets.extend(r.detections.into_iter().filter(|d| d.confidence >= confirm)),
+                Ok(r) => dets.extend(
+                    r.detections
+                        .into_iter()
+                        .filter(|d| d.confidence >= confirm && stands(d)),
+                ),
                 Err(_) => failed += 1,
             }
         }
@@ -88,6 +101,7 @@ pub(crate) fn look_around<R: Robot + ?Sized>(
                         r.detections.iter().any(|e| {
                             e.class == d.class
                                 && e.confidence >= confirm
+                                && stands(e)
                                 && e.pose.planar_distance(d.pose.x, d.pose.y) < t.look_cluster
                         })
                     })
@@ -174,6 +188,39 @@ pub(crate) fn look_around<R: Robot + ?Sized>(
 /// The pans of a look-around: half a field of view apart over the full circle.
 fn pan_views(cam: &avs_robot::Camera) -> usize {
     (std::f64::consts::TAU / (0.5 * cam.hfov).max(0.05)).ceil() as usize
+}
+
+/// The tilts of a look-around: every landmark centre the robot can see falls in the central
+/// half of some image's vertical field, as the pans ([`pan_views`], half a field apart) put
+/// it in the central half of some image's horizontal field. The detector is at its best near
+/// the optical axis; a landmark at the edge of the only image that holds it is rarely counted.
+///
+/// The elevations to cover come from the knowledge and the robot, not from a room: a landmark
+/// class stands on the floor with its centre at half its height, and is seen from between the
+/// nearest the robot can stand to that centre (its radius plus half the class's shorter side,
+/// and no nearer than the detection range begins) and the far end of the detection range.
+/// Their band is spanned by the tilt rule of Sjöö et al. (`004` §2.1.5,
+/// [`avs_view::plan::tilt_rule`]) with half the vertical field of view, inside the camera's
+/// tilt limits. For the office knowledge and a camera 1.2 m high with a 35° field tilting to
+/// −45°, that is −45°, −28° and −12°: a table 0.9 m away (centre 43° below the camera) sits
+/// 2° off the lowest image's axis, where the two tilts this replaces (−9° and −29°, chosen by
+/// hand) put it at the lower edge of the image.
+pub(crate) fn look_tilts(
+    knowledge: &avs_format::knowledge::Knowledge,
+    cam: &avs_robot::Camera,
+    robot_radius: f64,
+) -> Vec<f64> {
+    let mut band: Option<(f64, f64)> = None;
+    for c in knowledge.object_classes.iter().filter(|c| c.landmark) {
+        let centre = c.size[2] / 2.0 - cam.height;
+        let nearest = (robot_radius + c.size[0].min(c.size[1]) / 2.0).max(c.detection_range[0]);
+        let farthest = c.detection_range[1].max(nearest);
+        let (e0, e1) = (centre.atan2(nearest), centre.atan2(farthest));
+        let (lo, hi) = (e0.min(e1), e0.max(e1));
+        band = Some(band.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
+    }
+    let (lo, hi) = band.unwrap_or((0.0, 0.0));
+    avs_view::plan::tilt_rule(lo, hi, cam.vfov / 2.0, cam.tilt_limits)
 }
 
 /// How likely a real landmark seen once in the look-around must be to show again in the
@@ -263,14 +310,57 @@ mod tests {
         // Every view of the pan asked for the landmark classes only, at the look's tilts.
         let views = robot.views();
         assert!(views.len() >= 2 * 8, "{} views", views.len());
-        assert!(views
-            .iter()
-            .all(|v| config.tuning.look_tilts.contains(&v.tilt)));
+        let tilts = look_tilts(&k, &robot.camera(), config.robot_radius);
+        assert!(views.iter().all(|v| tilts.contains(&v.tilt)));
+    }
+
+    #[test]
+    fn the_look_tilts_hold_every_landmark_the_robot_can_see_in_the_central_half_of_an_image() {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        let mut cam = testing::robot(testing::room(5.0, 4.0), [1.5, 2.0]).camera();
+        for (height, vfov) in [(1.2, 35f64), (1.6, 35.0), (1.2, 20.0), (0.6, 50.0)] {
+            cam.height = height;
+            cam.vfov = vfov.to_radians();
+            let tilts = look_tilts(&k, &cam, config.robot_radius);
+            assert!(tilts.windows(2).all(|w| w[0] < w[1]), "{tilts:?}");
+            assert!(tilts
+                .iter()
+                .all(|t| (cam.tilt_limits[0]..=cam.tilt_limits[1]).contains(t)));
+            for c in k.object_classes.iter().filter(|c| c.landmark) {
+                let nearest = (config.robot_radius + c.size[0].min(c.size[1]) / 2.0)
+                    .max(c.detection_range[0]);
+                for i in 0..=50 {
+                    let d = nearest + (c.detection_range[1] - nearest) * f64::from(i) / 50.0;
+                    let e = (c.size[2] / 2.0 - cam.height).atan2(d);
+                    // Out of the camera's reach the nearest tilt is the limit.
+                    let reach = e.clamp(cam.tilt_limits[0], cam.tilt_limits[1]);
+                    let off = tilts
+                        .iter()
+                        .map(|t| (t - reach).abs())
+                        .fold(f64::MAX, f64::min);
+                    assert!(
+                        off <= cam.vfov / 4.0 + 1e-9,
+                        "{} at {d:.2} m ({:.1}°) is {:.1}° off the nearest of {:?} (camera {height} m, {vfov}°)",
+                        c.name,
+                        e.to_degrees(),
+                        off.to_degrees(),
+                        tilts.iter().map(|t| t.to_degrees()).collect::<Vec<_>>()
+                    );
+                }
+            }
+        }
+        // The default camera: three tilts, the lowest at its limit.
+        let cam = testing::robot(testing::room(5.0, 4.0), [1.5, 2.0]).camera();
+        let tilts = look_tilts(&k, &cam, config.robot_radius);
+        assert_eq!(tilts.len(), 3);
+        assert_eq!(tilts[0], cam.tilt_limits[0]);
     }
 
     /// The pan's views, all scripted: the first sees `first`, the rest nothing; how many.
     fn script_pan(robot: &mut ScriptedRobot, first: Detection) -> usize {
-        let n = pan_views(&robot.camera()) * AgentConfig::default().tuning.look_tilts.len();
+        let (cam, config) = (robot.camera(), AgentConfig::default());
+        let n =
+            pan_views(&cam) * look_tilts(&testing::knowledge(), &cam, config.robot_radius).len();
         robot.script_view(Ok(vec![first]));
         for _ in 1..n {
             robot.script_view(Ok(Vec::new()));

@@ -164,16 +164,16 @@ expect: { found: true }
         let d = short_diff("a\nb\nc\nd\n", "a\nb\nX\nd\n");
         assert!(d.contains("line 3"), "{d}");
         assert!(d.contains(">    3 | c") && d.contains(">    3 | X"), "{d}");
-        let dir = std::env::temp_dir().join(format!("avs-golden-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let e = check_golden(&dir, "no_such_scenario", "x\n", false)
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
+        let e = check_golden(dir, "no_such_scenario", "x\n", false)
             .unwrap_err()
             .0;
         assert!(e.contains("missing") && e.contains("AVS_BLESS=1"), "{e}");
         // Blessing writes it; then the same text passes and another fails with a diff.
-        assert!(check_golden(&dir, "s", "a\nb\n", true).unwrap().is_some());
-        assert_eq!(check_golden(&dir, "s", "a\nb\n", false), Ok(None));
-        let e = check_golden(&dir, "s", "a\nc\n", false).unwrap_err().0;
+        assert!(check_golden(dir, "s", "a\nb\n", true).unwrap().is_some());
+        assert_eq!(check_golden(dir, "s", "a\nb\n", false), Ok(None));
+        let e = check_golden(dir, "s", "a\nc\n", false).unwrap_err().0;
         assert!(e.contains("line 2"), "{e}");
     }
 }

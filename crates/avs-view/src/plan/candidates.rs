@@ -86,8 +86,16 @@ fn near_distance_for(problem: &ViewProblem, vfov: f64) -> f64 {
 
 /// The fewest evenly spaced tilts whose vertical fields of view together span the elevations
 /// `[a, b]`, as far as the tilt limits reach (§2.1.5: "one or more tilt angles are selected,
-/// with as little overlap as possible").
-fn tilt_rule(a: f64, b: f64, vfov: f64, limits: [f64; 2]) -> Vec<f64> {
+/// with as little overlap as possible"); ascending, at most [`MAX_TILTS`].
+///
+/// ```
+/// use avs_view::plan::tilt_rule;
+/// // 50° of elevation need two 35° images, overlapping by 20°.
+/// let t = tilt_rule((-50f64).to_radians(), 0.0, 35f64.to_radians(), [-1.0, 1.0]);
+/// assert_eq!(t.len(), 2);
+/// assert!((t[0].to_degrees() + 32.5).abs() < 1e-9 && (t[1].to_degrees() + 17.5).abs() < 1e-9);
+/// ```
+pub fn tilt_rule(a: f64, b: f64, vfov: f64, limits: [f64; 2]) -> Vec<f64> {
     let half = vfov / 2.0;
     let lo = a.max(limits[0] - half);
     let hi = b.min(limits[1] + half);

@@ -58,7 +58,7 @@ pub mod limits;
 pub mod optimal;
 pub mod search;
 
-pub use candidates::{candidate_units, near_distance, Unit};
+pub use candidates::{candidate_units, near_distance, tilt_rule, Unit};
 pub use execute::{drop_class, nearest_first};
 pub use greedy::plan_views;
 pub use limits::SoughtClass;
