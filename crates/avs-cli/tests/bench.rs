@@ -172,7 +172,8 @@ fn unknown_strategy_and_goal_are_errors_naming_what_is_expected() {
 
 #[test]
 fn a_saved_floor_replays_with_avs_search_to_the_same_run() {
-    let dir = std::env::temp_dir().join(format!("avs-bench-floors-{}", std::process::id()));
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("floors");
     let d = dir.to_str().unwrap();
     let a = bench_json(&[
         "bench",
@@ -217,7 +218,6 @@ fn a_saved_floor_replays_with_avs_search_to_the_same_run() {
             "`{key}` differs between bench and replay"
         );
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Issue 19: with stderr not a terminal (a log file, CI) the bench printed nothing for minutes;

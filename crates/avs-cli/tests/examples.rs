@@ -4,15 +4,8 @@
 mod common;
 use common::avs_in;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Output;
-
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("avs-examples-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 fn text(o: &Output) -> (String, String) {
     (
@@ -100,8 +93,9 @@ fn check_output(cmd: &str, dir: &Path, stdout: &str, stderr: &str) {
 
 #[test]
 fn every_printed_command_runs_on_the_written_files_and_exits_0() {
-    let root = temp_dir("all");
-    let o = avs_in(&root, &["examples", "ex"]);
+    let tmp = tempfile::tempdir().unwrap();
+    let root = tmp.path();
+    let o = avs_in(root, &["examples", "ex"]);
     let (stdout, stderr) = text(&o);
     assert_eq!(o.status.code(), Some(0), "{stdout}\n{stderr}");
     let dir = root.join("ex");
@@ -140,24 +134,24 @@ fn every_printed_command_runs_on_the_written_files_and_exits_0() {
     for cmd in &commands {
         let words: Vec<&str> = cmd.split_whitespace().collect();
         assert_eq!(words[0], "avs", "{cmd}");
-        let o = avs_in(&root, &words[1..]);
+        let o = avs_in(root, &words[1..]);
         let (out, err) = text(&o);
         assert_eq!(o.status.code(), Some(0), "{cmd}\n{out}\n{err}");
         check_output(cmd, &dir, &out, &err);
     }
-    std::fs::remove_dir_all(&root).ok();
 }
 
 #[test]
 fn existing_files_are_kept_unless_force_is_given() {
-    let dir = temp_dir("force");
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
     let d = dir.to_str().unwrap();
-    let o = avs_in(&dir, &["examples", d]);
+    let o = avs_in(dir, &["examples", d]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o).1);
     let mine = dir.join("rooms.uai");
     std::fs::write(&mine, "my own model\n").unwrap();
 
-    let o = avs_in(&dir, &["examples", d]);
+    let o = avs_in(dir, &["examples", d]);
     let (_, err) = text(&o);
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(err.contains(&mine.display().to_string()), "{err}");
@@ -169,36 +163,35 @@ fn existing_files_are_kept_unless_force_is_given() {
         "a refused run wrote nothing"
     );
 
-    let o = avs_in(&dir, &["examples", d, "--force"]);
+    let o = avs_in(dir, &["examples", d, "--force"]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o).1);
     assert!(std::fs::read_to_string(&mine).unwrap().contains("MARKOV"));
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
 fn only_the_clashing_file_is_named_and_a_fresh_subfolder_is_created() {
-    let dir = temp_dir("one");
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
     std::fs::write(dir.join("view_cones.pomdp"), "mine\n").unwrap();
-    let o = avs_in(&dir, &["examples", "."]);
+    let o = avs_in(dir, &["examples", "."]);
     let (_, err) = text(&o);
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(err.contains("view_cones.pomdp: already exists"), "{err}");
     assert!(!err.contains("office.yaml"), "{err}");
     assert!(!dir.join("office.yaml").exists(), "nothing written");
 
-    let o = avs_in(&dir, &["examples", "a/b"]);
+    let o = avs_in(dir, &["examples", "a/b"]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o).1);
     assert!(dir.join("a/b/flat.yaml").is_file());
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
 fn usage_errors_exit_2() {
-    let dir = temp_dir("usage");
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
     for args in [vec!["examples"], vec!["examples", "x", "--no-such-flag"]] {
-        let o = avs_in(&dir, &args);
+        let o = avs_in(dir, &args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", text(&o).1);
     }
     assert!(!dir.join("x").exists(), "a usage error writes nothing");
-    std::fs::remove_dir_all(&dir).ok();
 }

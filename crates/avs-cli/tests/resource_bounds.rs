@@ -4,14 +4,8 @@
 mod common;
 use common::avs_in as avs;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Output;
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("avs-bounds-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 fn text(o: &Output) -> (String, String) {
     (
@@ -24,37 +18,37 @@ fn text(o: &Output) -> (String, String) {
 /// past 60 s at 5.5 GB; it now stops on time with valid bounds.
 #[test]
 fn pomdp_solve_with_a_time_limit_stops_on_time() {
-    let dir = scratch("pomdp");
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
     std::fs::write(
         dir.join("wide.pomdp"),
         "discount: 0.95\nvalues: reward\nstates: 1000\nactions: 2\nobservations: 1000\n\
          T: * uniform\nO: * uniform\nR: 0 : 0 : * : * 1\nR: 1 : 1 : * : * 1\n",
     )
     .unwrap();
-    let o = avs(&dir, &["pomdp", "solve", "--time", "1", "wide.pomdp"]);
+    let o = avs(dir, &["pomdp", "solve", "--time", "1", "wide.pomdp"]);
     let (out, err) = text(&o);
     assert!(o.status.success(), "{out}{err}");
     assert!(out.contains("stopped     TimeLimit"), "{out}");
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// Rewards of ±1e308 printed `lower -inf`, `gap NaN` and exited 0; now the file is refused at
 /// the reward's line and nothing is printed as a solution.
 #[test]
 fn pomdp_rewards_beyond_f64_are_refused_at_their_line() {
-    let dir = scratch("reward");
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
     std::fs::write(
         dir.join("big.pomdp"),
         "discount: 0.95\nvalues: reward\nstates: a b\nactions: x y\nobservations: o\n\
          T: * identity\nO: * uniform\nR: x : a : * : * 1e308\nR: y : * : * : * -1e308\n",
     )
     .unwrap();
-    let o = avs(&dir, &["pomdp", "solve", "big.pomdp"]);
+    let o = avs(dir, &["pomdp", "solve", "big.pomdp"]);
     let (out, err) = text(&o);
     assert!(!o.status.success(), "{out}{err}");
     assert!(out.is_empty(), "{out}");
     assert!(err.contains("big.pomdp:8: reward 1e308"), "{err}");
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// A 5 × 5 room (PGM) with its map_server descriptor.
@@ -79,12 +73,13 @@ fn small_map(dir: &Path) {
 /// aborted; it is now refused from the header.
 #[test]
 fn segment_truth_declaring_a_huge_size_is_a_clean_error() {
-    let dir = scratch("truth");
-    small_map(&dir);
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    small_map(dir);
     let mut truth = b"P5\n20000 20000\n255\n".to_vec();
     truth.extend_from_slice(&[255; 64]);
     std::fs::write(dir.join("truth.pgm"), truth).unwrap();
-    let o = avs(&dir, &["segment", "map.yaml", "--truth", "truth.pgm"]);
+    let o = avs(dir, &["segment", "map.yaml", "--truth", "truth.pgm"]);
     let (out, err) = text(&o);
     assert!(!o.status.success(), "{out}{err}");
     assert!(
@@ -94,34 +89,34 @@ fn segment_truth_declaring_a_huge_size_is_a_clean_error() {
         "{err}"
     );
     // The same map without the truth segments (the map itself is sound).
-    assert!(avs(&dir, &["segment", "map.yaml"]).status.success());
-    std::fs::remove_dir_all(&dir).ok();
+    assert!(avs(dir, &["segment", "map.yaml"]).status.success());
 }
 
 /// A map descriptor with a value nested 100,000 deep took over a minute; it is now refused
 /// with the line and column where the nesting passes the cap.
 #[test]
 fn a_deeply_nested_map_descriptor_is_refused_with_its_position() {
-    let dir = scratch("deep");
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
     let deep = format!(
         "resolution: 0.05\nimage: {}x{}\n",
         "[".repeat(100_000),
         "]".repeat(100_000)
     );
     std::fs::write(dir.join("deep.yaml"), deep).unwrap();
-    let o = avs(&dir, &["segment", "deep.yaml"]);
+    let o = avs(dir, &["segment", "deep.yaml"]);
     let (out, err) = text(&o);
     assert!(!o.status.success(), "{out}{err}");
     assert!(err.contains("deep.yaml:2:"), "{err}");
     assert!(err.contains("nesting deeper than 64 levels"), "{err}");
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// Gripper's `move` with 8 extra unused parameters grounded for over 40 s past 1.8 GB; the
 /// grounding now stops at its limit and names the action.
 #[test]
 fn plan_with_an_exploding_action_names_it() {
-    let dir = scratch("plan");
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
     let unused: String = (1..=8).map(|i| format!(" ?u{i}")).collect();
     std::fs::write(
         dir.join("domain.pddl"),
@@ -150,12 +145,11 @@ fn plan_with_an_exploding_action_names_it() {
    (:goal (and (at ball4 roomb) (at ball3 roomb) (at ball2 roomb) (at ball1 roomb))))",
     )
     .unwrap();
-    let o = avs(&dir, &["plan", "domain.pddl", "problem.pddl"]);
+    let o = avs(dir, &["plan", "domain.pddl", "problem.pddl"]);
     let (out, err) = text(&o);
     assert!(!o.status.success(), "{out}{err}");
     assert!(
         err.contains("grounding domain.pddl with problem problem.pddl: grounding action `move` passed the limit of 1000000 ground operators"),
         "{err}"
     );
-    std::fs::remove_dir_all(&dir).ok();
 }

@@ -7,9 +7,8 @@ use std::process::Command;
 
 #[test]
 fn svg_of_a_search_draws_the_trail_and_the_reported_position() {
-    let dir = std::env::temp_dir().join(format!("avs-search-svg-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let svg = dir.join("run.svg");
+    let tmp = tempfile::tempdir().unwrap();
+    let svg = tmp.path().join("run.svg");
     let mut args = OFFICE.to_vec();
     let svg_s = svg.to_str().unwrap();
     args.extend(["--goal", "cerealbox", "--svg", svg_s]);
@@ -34,7 +33,6 @@ fn svg_of_a_search_draws_the_trail_and_the_reported_position() {
     if summary["reported_pose"].is_array() {
         assert!(pic.contains("reported cerealbox"));
     }
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
@@ -146,18 +144,17 @@ fn a_door_closing_mid_run_ends_in_a_verdict() {
     assert!(!summary["reason"].as_str().unwrap().is_empty());
 }
 
-/// The shipped office with `from` replaced by `to`, written to a scratch directory of its own
-/// (`tag` names it); the directory and the file.
-fn edited_office(tag: &str, from: &str, to: &str) -> (std::path::PathBuf, std::path::PathBuf) {
-    let dir = std::env::temp_dir().join(format!("avs-search-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+/// The shipped office with `from` replaced by `to`, written as `{tag}.yaml` to a scratch
+/// directory of its own; the directory (deleted when dropped) and the file.
+fn edited_office(tag: &str, from: &str, to: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
     let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let text = std::fs::read_to_string(root.join("domains/environments/office.yaml")).unwrap();
     assert!(
         text.contains(from),
         "the shipped office no longer has `{from}`"
     );
-    let env = dir.join(format!("{tag}.yaml"));
+    let env = dir.path().join(format!("{tag}.yaml"));
     std::fs::write(&env, text.replace(from, to)).unwrap();
     (dir, env)
 }
@@ -186,7 +183,7 @@ fn a_start_off_the_map_is_refused_as_validate_refuses_it() {
     let start = "start: { x: 1.0, y: 1.2, yaw_deg: 0 }";
     for x in ["1000", "1e19", "-3"] {
         let moved = format!("start: {{ x: {x}, y: 1.2, yaw_deg: 0 }}");
-        let (dir, env) = edited_office(&format!("offmap{x}"), start, &moved);
+        let (_dir, env) = edited_office(&format!("offmap{x}"), start, &moved);
         let env_s = env.to_str().unwrap();
         let validate = avs(&["validate", env_s]);
         assert_eq!(validate.status.code(), Some(1), "validate accepted x = {x}");
@@ -198,7 +195,6 @@ fn a_start_off_the_map_is_refused_as_validate_refuses_it() {
                 && err.contains("outside the map"),
             "x = {x}: {err}"
         );
-        std::fs::remove_dir_all(&dir).ok();
     }
     let (code, err) = search_for_cerealbox(None, &["--start", "1e19,0,0"]);
     assert_eq!(code, Some(1), "{err}");
@@ -213,7 +209,7 @@ fn a_start_off_the_map_is_refused_as_validate_refuses_it() {
 /// error at its line, not a search that never looks for it.
 #[test]
 fn an_object_of_an_unknown_class_is_refused_as_validate_refuses_it() {
-    let (dir, env) = edited_office(
+    let (_dir, env) = edited_office(
         "teapot",
         "id: mug1, class: mug,",
         "id: mug1, class: teapot,",
@@ -225,7 +221,6 @@ fn an_object_of_an_unknown_class_is_refused_as_validate_refuses_it() {
         err.contains(&format!("{env_s}:")) && err.contains(".class") && err.contains("teapot"),
         "{err}"
     );
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// Issue 19: the shipped office, knowledge and domain are built into the binary, so `avs run`
@@ -233,13 +228,14 @@ fn an_object_of_an_unknown_class_is_refused_as_validate_refuses_it() {
 /// checkout in it.
 #[test]
 fn the_defaults_are_built_in_so_run_and_search_work_from_any_directory() {
-    let away = std::env::temp_dir();
+    let tmp = tempfile::tempdir().unwrap();
+    let away = tmp.path();
     assert!(
         !away.join("knowledge/office.yaml").exists(),
         "{} holds a checkout's files; the test needs a directory without them",
         away.display()
     );
-    let in_dir = |args: &[&str]| common::avs_in(&away, args);
+    let in_dir = |args: &[&str]| common::avs_in(away, args);
     let run = in_dir(&["run"]);
     let out = String::from_utf8_lossy(&run.stdout);
     assert!(
@@ -290,9 +286,8 @@ fn info_logging_shows_the_milestones_in_plain_text() {
 /// The first plan's (cost, success probability) of `avs search` on the shipped office with
 /// `extra` flags, read from its JSON-lines trace.
 fn first_plan(extra: &[&str], tag: &str) -> (f64, f64) {
-    let dir = std::env::temp_dir().join(format!("avs-search-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let trace = dir.join("trace.jsonl");
+    let dir = tempfile::tempdir().unwrap();
+    let trace = dir.path().join(format!("{tag}.jsonl"));
     let mut args = OFFICE.to_vec();
     args.extend([
         "--goal",
@@ -312,7 +307,6 @@ fn first_plan(extra: &[&str], tag: &str) -> (f64, f64) {
         .map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap())
         .find(|e| e["event"] == "plan_made")
         .expect("a plan was made");
-    std::fs::remove_dir_all(&dir).ok();
     (
         plan["cost"].as_f64().unwrap(),
         plan["probability"].as_f64().unwrap(),

@@ -5,15 +5,6 @@
 mod common;
 use common::{avs, avs_in};
 
-use std::path::PathBuf;
-
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("avs-segment-env-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
 fn json(args: &[&str]) -> serde_json::Value {
     let o = avs(args);
     let stdout = String::from_utf8_lossy(&o.stdout);
@@ -80,7 +71,8 @@ fn text_output_names_the_truth_and_a_roomless_environment_is_not_scored() {
         "{stdout}"
     );
 
-    let dir = temp_dir("roomless");
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
     let office = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../domains/environments/office.yaml"
@@ -91,7 +83,7 @@ fn text_output_names_the_truth_and_a_roomless_environment_is_not_scored() {
         s[..s.find("\nrooms:").unwrap() + 1].to_string() + &s[s.find("\nrobot:").unwrap() + 1..]
     };
     std::fs::write(dir.join("bare.yaml"), cut(&office)).unwrap();
-    let o = avs_in(&dir, &["segment", "bare.yaml"]);
+    let o = avs_in(dir, &["segment", "bare.yaml"]);
     let (stdout, stderr) = (
         String::from_utf8_lossy(&o.stdout),
         String::from_utf8_lossy(&o.stderr),
@@ -103,7 +95,6 @@ fn text_output_names_the_truth_and_a_roomless_environment_is_not_scored() {
         stdout.contains("note: the environment has no rooms: not scored"),
         "{stdout}"
     );
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
@@ -118,7 +109,8 @@ fn other_kinds_and_broken_environments_exit_1_naming_the_file() {
     assert!(err.contains("expected an environment"), "{err}");
 
     // The checks of `avs validate`: a start inside a wall, with its line.
-    let dir = temp_dir("broken");
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
     let office = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../domains/environments/office.yaml"
@@ -129,10 +121,9 @@ fn other_kinds_and_broken_environments_exit_1_naming_the_file() {
         "start: { x: 0.05, y: 0.05, yaw_deg: 0 }",
     );
     std::fs::write(dir.join("walled_in.yaml"), office).unwrap();
-    let o = avs_in(&dir, &["segment", "walled_in.yaml"]);
+    let o = avs_in(dir, &["segment", "walled_in.yaml"]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(err.contains("walled_in.yaml:"), "{err}");
     assert!(err.contains("robot.start"), "{err}");
-    std::fs::remove_dir_all(&dir).ok();
 }

@@ -11,8 +11,8 @@ fn every_event_of_a_json_trace_validates_against_avs_schema_trace() {
     assert!(out.status.success());
     let schema: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
     let validator = jsonschema::validator_for(&schema).expect("a valid JSON Schema");
-    let dir = std::env::temp_dir().join(format!("avs-trace-schema-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
     let mut kinds = std::collections::BTreeSet::new();
     for (name, args) in [
         ("run", vec!["run"]),
@@ -65,5 +65,4 @@ fn every_event_of_a_json_trace_validates_against_avs_schema_trace() {
     ] {
         assert!(!validator.is_valid(&bad), "{bad} validates");
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }

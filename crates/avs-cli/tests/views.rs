@@ -6,7 +6,8 @@ use common::avs;
 
 #[test]
 fn views_json_has_the_contract_keys_and_covers_the_kitchen_for_three_classes() {
-    let svg = std::env::temp_dir().join(format!("avs-views-{}.svg", std::process::id()));
+    let tmp = tempfile::tempdir().unwrap();
+    let svg = tmp.path().join("views.svg");
     let o = avs(&[
         "views",
         "domains/environments/office.yaml",
@@ -53,7 +54,6 @@ fn views_json_has_the_contract_keys_and_covers_the_kitchen_for_three_classes() {
         .iter()
         .all(|view| used.contains(&view["standpoint"].as_u64().unwrap())));
     let picture = std::fs::read_to_string(&svg).unwrap();
-    std::fs::remove_file(&svg).ok();
     assert!(picture.starts_with("<svg") && picture.contains("standpoint used"));
 }
 

@@ -6,7 +6,8 @@ use common::avs;
 
 #[test]
 fn zoom_bench_writes_four_charts_and_prints_the_four_series() {
-    let dir = std::env::temp_dir().join(format!("avs-zoom-bench-cli-{}", std::process::id()));
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("charts");
     let out = dir.to_str().unwrap();
     let o = avs(&[
         "zoom-bench",
@@ -51,7 +52,6 @@ fn zoom_bench_writes_four_charts_and_prints_the_four_series() {
         text.contains("Fig. 7") && text.contains("Fig. 10"),
         "{text}"
     );
-    std::fs::remove_dir_all(&dir).ok();
     // A bad count is named.
     let o = avs(&["zoom-bench", "--images-per-position", "0", "--out", out]);
     assert_eq!(o.status.code(), Some(1));

@@ -369,6 +369,33 @@ mod tests {
     }
 
     #[test]
+    fn a_sighting_that_does_not_stand_on_the_floor_is_no_landmark_however_often_seen() {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        // A table seen in every view of the pan: at its own height it is counted; a metre
+        // under the floor or two above it (where the detector's false alarms may fall) it is
+        // not.
+        for (z, counted) in [(0.4, true), (-1.0, false), (2.5, false)] {
+            let mut robot = testing::robot(testing::room(5.0, 4.0), [1.5, 2.0]);
+            let mut mem = testing::memory(&config, &k, &mut robot);
+            let cam = robot.camera();
+            let n = pan_views(&cam) * look_tilts(&k, &cam, config.robot_radius).len();
+            for _ in 0..n + 8 {
+                robot.script_view(Ok(vec![object("table", 3.5, 2.0, z)]));
+            }
+            let mut sink = testing::sink();
+            let mut run = testing::run(&mut sink);
+            let cx = testing::ctx(&k, &config);
+            look_around(cx, &mut mem, &mut Body::new(&mut robot), &mut run).unwrap();
+            assert_eq!(
+                mem.objects.len(),
+                usize::from(counted),
+                "z {z}: {:?}",
+                mem.objects
+            );
+        }
+    }
+
+    #[test]
     fn centred_looks_at_a_landmark_seen_once_go_on_until_it_shows_again_or_the_budget_ends() {
         // Two for the knowledge's 0.2: 1 − 0.2² = 0.96 ≥ 0.95; five for 0.5 (1 − 0.5⁵ ≈ 0.97,
         // 1 − 0.5⁴ ≈ 0.94); one for a detector that never misses.
