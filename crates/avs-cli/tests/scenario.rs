@@ -12,15 +12,11 @@ fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-fn temp_dir() -> tempfile::TempDir {
-    tempfile::tempdir().unwrap()
-}
-
 #[test]
 fn a_scenario_copied_elsewhere_runs_from_there_and_passes_with_exit_0() {
     // The file's paths are relative to the repository; neither the file's folder nor the
     // current directory has them.
-    let tmp = temp_dir();
+    let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     let file = dir.join("stapler.yaml");
     std::fs::copy(
@@ -80,7 +76,7 @@ fn seed_runs_each_file_once_per_seed_and_names_the_seed() {
 #[test]
 fn a_failing_property_prints_fail_and_exits_3() {
     // The stapler run with one more expectation it cannot meet.
-    let tmp = temp_dir();
+    let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     let text = std::fs::read_to_string(repo().join("tests/plan_traces/fig3d_office_stapler.yaml"))
         .unwrap()
@@ -99,7 +95,7 @@ fn a_failing_property_prints_fail_and_exits_3() {
 
 #[test]
 fn a_scenario_that_cannot_be_run_exits_1_naming_the_file_and_field() {
-    let tmp = temp_dir();
+    let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     let text = std::fs::read_to_string(repo().join("tests/plan_traces/fig3d_office_stapler.yaml"))
         .unwrap()
