@@ -1,8 +1,11 @@
 //! The place map: places, paths, doors, placeholders and rooms (Aydemir et al.,
 //! `002_ff7a0884d9f6f2df.txt` §II-B.1–2; Sjöö et al., `004_eb11ea0b2ea7be93.txt` §2).
 //!
-//! * **Places** are dropped along the space the robot traverses, one whenever it is more than
-//!   `spacing` (default 1 m) from every existing place.
+//! * **Places** are dropped along the space the robot traverses, one whenever no existing place
+//!   within `spacing` (default 1 m) is in sight over known free space ([`PlaceMap::place_at`]):
+//!   the robot walking along a corridor wall is not at the place a metre away in the room
+//!   behind it, and the path that moving "to" that place would record joins the two rooms
+//!   beside their door.
 //! * **Paths** join places the robot travelled between, and places that see each other over
 //!   known free space within `2.5 × spacing` — but a path never crosses a door opening unless one
 //!   end is that door's place, so doors stay cut points.
@@ -197,6 +200,24 @@ impl PlaceMap {
             .min_by(|&a, &b| dist(self.graph[a].pos, p).total_cmp(&dist(self.graph[b].pos, p)))
     }
 
+    /// The place whose region holds `p`: the nearest place within `spacing` that `p` sees over
+    /// known free space, or `None` when there is none. A place on the far side of a wall is
+    /// not where the robot stands, however near: the robot walking along a corridor within a
+    /// metre of a place inside a room would otherwise "travel" to it through the wall, and the
+    /// path recorded for that joins the room to the corridor beside its door.
+    pub fn place_at(&self, known: &OccupancyGrid, p: [f64; 2]) -> Option<NodeIndex> {
+        let mut near: Vec<(f64, NodeIndex)> = self
+            .graph
+            .node_indices()
+            .map(|n| (dist(self.graph[n].pos, p), n))
+            .filter(|&(d, _)| d <= self.params.spacing)
+            .collect();
+        near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        near.into_iter()
+            .map(|(_, n)| n)
+            .find(|&n| line_of_sight(known, self.graph[n].pos, p, true))
+    }
+
     /// The robot moved in a straight line from `from` to `to` over the known grid: confirm the
     /// doors it passed through and drop places along the way.
     pub fn robot_moved(&mut self, known: &OccupancyGrid, from: [f64; 2], to: [f64; 2]) {
@@ -228,12 +249,13 @@ impl PlaceMap {
             self.current = Some(place);
         }
         let cur = self.current.expect("set above");
-        let near = self.nearest_place(to).expect("at least one place");
-        if dist(self.graph[near].pos, to) > self.params.spacing {
+        let Some(near) = self.place_at(known, to) else {
             let p = self.add_place(known, to, None);
             self.link_traversed(cur, p);
             self.current = Some(p);
-        } else if near != cur {
+            return;
+        };
+        if near != cur {
             // The robot is now in the region of another existing place: it travelled there.
             if !self.crosses_foreign_door(self.graph[cur].pos, self.graph[near].pos, &[cur, near]) {
                 self.link_traversed(cur, near);
@@ -787,6 +809,61 @@ mod tests {
         // Places are about `spacing` apart along the walk (≈ 7.6 m walked).
         let n = map.graph.node_count();
         assert!((6..=12).contains(&n), "{n} places");
+    }
+
+    /// Two 4 m × 5.6 m rooms joined by a 0.9 m door at the bottom of the 0.2 m wall between
+    /// them (x 4.2–4.4 m, door y 0.6–1.5 m). The robot enters the right room, walks up beside
+    /// the wall, comes back out and walks up the left side of the same wall: for 3.5 m it passes
+    /// within 0.8 m of the right room's places, more than a metre beyond the door's jamb. It
+    /// is near them, not at them: the wall stays between the rooms.
+    #[test]
+    fn walking_beside_a_wall_never_joins_the_room_behind_it() {
+        let (w, h) = (86usize, 60usize);
+        let mut rows = vec![];
+        for r in 0..h {
+            let y = (h - 1 - r) as f64 * 0.1;
+            let mut line = String::new();
+            for c in 0..w {
+                let border = r < 2 || r >= h - 2 || c < 2 || c >= w - 2;
+                let wall = (42..44).contains(&c) && !(0.6..1.5).contains(&y);
+                line.push(if border || wall { '#' } else { '.' });
+            }
+            rows.push(line);
+        }
+        let g = OccupancyGrid::from_ascii(&(rows.join("\n") + "\n"), 0.1, [0.0, 0.0]).unwrap();
+        let mut map = PlaceMap::new(PlaceMapParams::default());
+        walk(
+            &mut map,
+            &g,
+            &[
+                [2.0, 1.05],
+                [4.8, 1.05],
+                [4.75, 5.0],
+                [4.75, 1.05],
+                [3.85, 1.05],
+                [3.85, 5.0],
+            ],
+        );
+        assert!(
+            map.doors.iter().any(|d| d.confirmed),
+            "the robot crossed the door: {:?}",
+            map.doors
+        );
+        let rooms = map.rooms();
+        assert_eq!(rooms.rooms.len(), 2, "{rooms:?}");
+        for r in &rooms.rooms {
+            let left = r.places.iter().all(|&p| map.graph[p].pos[0] < 4.2);
+            let right = r.places.iter().all(|&p| map.graph[p].pos[0] > 4.4);
+            assert!(left || right, "room {} straddles the wall", r.id);
+        }
+        for (a, b, _) in map.paths() {
+            let (pa, pb) = (map.graph[a].pos, map.graph[b].pos);
+            let door = map.graph[a].door.is_some() || map.graph[b].door.is_some();
+            assert!(
+                door || (pa[0] < 4.3) == (pb[0] < 4.3),
+                "a path through the wall: {pa:?} – {pb:?}"
+            );
+        }
     }
 
     /// A corridor below a door: the robot walked from the corridor's west end to the door
