@@ -240,25 +240,25 @@ impl PlaceMap {
                     let p = self.add_place(known, self.doors[i].hypothesis.center, Some(i));
                     self.doors[i].place = Some(p);
                     self.absorb_places_in_opening(i, p);
-                    self.cut_paths_through(i);
+                    self.cut_paths_through(known, i);
                     p
                 }
             };
             self.doors[i].confirmed = true;
-            self.link_traversed(self.current.expect("set above"), place);
+            self.link_traversed(known, self.current.expect("set above"), place);
             self.current = Some(place);
         }
         let cur = self.current.expect("set above");
         let Some(near) = self.place_at(known, to) else {
             let p = self.add_place(known, to, None);
-            self.link_traversed(cur, p);
+            self.link_traversed(known, cur, p);
             self.current = Some(p);
             return;
         };
         if near != cur {
             // The robot is now in the region of another existing place: it travelled there.
             if !self.crosses_foreign_door(self.graph[cur].pos, self.graph[near].pos, &[cur, near]) {
-                self.link_traversed(cur, near);
+                self.link_traversed(known, cur, near);
             }
             self.current = Some(near);
         }
@@ -394,7 +394,7 @@ impl PlaceMap {
 
     /// Remove the paths made before door `i` was known that cross its opening: from now on the
     /// only way through is its door place.
-    fn cut_paths_through(&mut self, i: usize) {
+    fn cut_paths_through(&mut self, known: &OccupancyGrid, i: usize) {
         let d = &self.doors[i];
         let crossing: Vec<_> = self
             .graph
@@ -402,7 +402,9 @@ impl PlaceMap {
             .filter(|&e| {
                 let (a, b) = self.graph.edge_endpoints(e).expect("live edge");
                 let (pa, pb) = (self.graph[a].pos, self.graph[b].pos);
-                Some(a) != d.place && Some(b) != d.place && crosses_door_wall(&d.hypothesis, pa, pb)
+                Some(a) != d.place
+                    && Some(b) != d.place
+                    && goes_through(known, &d.hypothesis, pa, pb)
             })
             .collect();
         for e in crossing {
@@ -410,16 +412,17 @@ impl PlaceMap {
         }
     }
 
-    fn link_traversed(&mut self, a: NodeIndex, b: NodeIndex) {
+    fn link_traversed(&mut self, known: &OccupancyGrid, a: NodeIndex, b: NodeIndex) {
         if a == b {
             return;
         }
-        // A travelled path whose straight line crosses a confirmed door went through that door:
-        // record it as two paths via the door place, so the door stays a cut point.
+        // A travelled path whose straight line goes through a confirmed door ([`goes_through`])
+        // went through that door: record it as two paths via the door place, so the door stays
+        // a cut point.
         let (pa, pb) = (self.graph[a].pos, self.graph[b].pos);
         let via = self.doors.iter().find_map(|d| {
             let p = d.place?;
-            (d.confirmed && p != a && p != b && crosses_door_wall(&d.hypothesis, pa, pb))
+            (d.confirmed && p != a && p != b && goes_through(known, &d.hypothesis, pa, pb))
                 .then_some(p)
         });
         if let Some(p) = via {
@@ -644,6 +647,20 @@ impl PlaceMap {
 /// Whether the segment `a`–`b` crosses the door's line within a metre beyond either jamb: a path
 /// between places that crosses there went through the doorway (or through the wall around
 /// it), so it must go through the door place instead. Checked both ways, so it is symmetric.
+/// Whether the way between two places the robot travelled between went through door `h`:
+/// their straight line crosses its opening, or crosses the wall within a metre beside it
+/// ([`crosses_door_wall`]) and the two do not see each other over the known grid (the robot
+/// cannot have walked through the wall, so it went round through the door). A line that
+/// crosses the door's line beyond a jamb in plain sight crosses no wall there: the door's line
+/// runs on into open space (a door near a room's corner, or a gap taken for a door), and the
+/// robot walked straight — recording that walk through the door place joined the rooms on
+/// either side of the wall the line runs into.
+fn goes_through(known: &OccupancyGrid, h: &DoorHypothesis, a: [f64; 2], b: [f64; 2]) -> bool {
+    h.crossed_by(a, b)
+        || h.crossed_by(b, a)
+        || (crosses_door_wall(h, a, b) && !line_of_sight(known, a, b, true))
+}
+
 fn crosses_door_wall(h: &DoorHypothesis, a: [f64; 2], b: [f64; 2]) -> bool {
     const BEYOND: f64 = 1.0;
     let [ja, jb] = h.jambs;
@@ -864,6 +881,78 @@ mod tests {
                 "a path through the wall: {pa:?} – {pb:?}"
             );
         }
+    }
+
+    /// A confirmed door whose line runs into a side wall (here a gap between a desk and the
+    /// wall, taken for a door): the robot walking in the room on the far side of that wall
+    /// crosses the door's line 0.9 m beyond its jamb, in plain sight of where it came from. It
+    /// walked straight, not through the door: the rooms on either side of the wall stay apart.
+    #[test]
+    fn a_walk_across_a_door_line_beyond_its_jamb_in_plain_sight_is_not_through_the_door() {
+        let (w, h) = (86usize, 40usize);
+        let rows: Vec<String> = (0..h)
+            .map(|r| {
+                (0..w)
+                    .map(|c| {
+                        let border = r < 2 || r >= h - 2 || c < 2 || c >= w - 2;
+                        if border || (42..44).contains(&c) {
+                            '#'
+                        } else {
+                            '.'
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        let g = OccupancyGrid::from_ascii(&(rows.join("\n") + "\n"), 0.1, [0.0, 0.0]).unwrap();
+        let mut map = PlaceMap::new(PlaceMapParams::default());
+        map.doors.push(MapDoor {
+            hypothesis: DoorHypothesis {
+                center: [3.4, 0.9],
+                jambs: [[2.85, 0.85], [3.95, 0.95]],
+                width: 1.0,
+            },
+            confirmed: true,
+            place: None,
+        });
+        let door = map.graph.add_node(Place {
+            pos: [3.4, 0.9],
+            door: Some(0),
+        });
+        map.doors[0].place = Some(door);
+        let left = map.graph.add_node(Place {
+            pos: [3.05, 1.6],
+            door: None,
+        });
+        map.graph.add_edge(
+            left,
+            door,
+            PathEdge {
+                length: dist([3.05, 1.6], [3.4, 0.9]),
+                traversed: true,
+            },
+        );
+        map.current = Some(map.add_place(&g, [4.85, 2.0], None));
+        for y in [1.75, 1.5, 1.25, 1.0, 0.75, 0.5] {
+            let from = map.graph[map.current.unwrap()].pos;
+            map.robot_moved(&g, from, [4.85, y]);
+        }
+        let right: Vec<NodeIndex> = map
+            .graph
+            .node_indices()
+            .filter(|&n| map.graph[n].pos[0] > 4.3)
+            .collect();
+        assert!(right.len() >= 2, "places along the walk: {right:?}");
+        for &n in &right {
+            assert!(
+                map.graph.find_edge(n, door).is_none(),
+                "a path from {:?} to the door place across the wall",
+                map.graph[n].pos
+            );
+        }
+        let rooms = map.rooms();
+        let of = |n: NodeIndex| rooms.rooms.iter().position(|r| r.places.contains(&n));
+        assert_ne!(of(left), of(right[0]), "{rooms:?}");
     }
 
     /// A corridor below a door: the robot walked from the corridor's west end to the door
