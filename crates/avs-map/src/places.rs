@@ -698,24 +698,59 @@ mod tests {
     /// Two 4 m × 3 m rooms side by side, joined by a 0.9 m door in a 0.2 m wall; the free cells
     /// for which `known(col, row)` is false are unknown.
     fn two_rooms_with(known: impl Fn(usize, usize) -> bool) -> OccupancyGrid {
-        let (w, h) = (86usize, 34usize);
-        let mut rows = vec![];
-        for r in 0..h {
-            let mut line = String::new();
-            for c in 0..w {
-                let border = r < 2 || r >= h - 2 || c < 2 || c >= w - 2;
-                let wall = (42..44).contains(&c) && !(12..21).contains(&r);
-                line.push(if border || wall {
-                    '#'
-                } else if known(c, r) {
-                    '.'
-                } else {
-                    '?'
-                });
+        walled(86, 34, |c, r| {
+            if (42..44).contains(&c) && !(12..21).contains(&r) {
+                '#'
+            } else if known(c, r) {
+                '.'
+            } else {
+                '?'
             }
-            rows.push(line);
-        }
+        })
+    }
+
+    /// A `w` × `h` grid of 0.1 m cells, row 0 at the top, with a 0.2 m border wall; inside
+    /// it, `cell(col, row)` gives each cell's character (`#`, `.` or `?`).
+    fn walled(w: usize, h: usize, cell: impl Fn(usize, usize) -> char) -> OccupancyGrid {
+        let rows: Vec<String> = (0..h)
+            .map(|r| {
+                (0..w)
+                    .map(|c| {
+                        let border = r < 2 || r >= h - 2 || c < 2 || c >= w - 2;
+                        if border {
+                            '#'
+                        } else {
+                            cell(c, r)
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
         OccupancyGrid::from_ascii(&(rows.join("\n") + "\n"), 0.1, [0.0, 0.0]).unwrap()
+    }
+
+    /// A confirmed door with jambs `jambs` and its door place at their middle; the place.
+    fn confirmed_door(map: &mut PlaceMap, jambs: [[f64; 2]; 2], width: f64) -> NodeIndex {
+        let center = [
+            0.5 * (jambs[0][0] + jambs[1][0]),
+            0.5 * (jambs[0][1] + jambs[1][1]),
+        ];
+        map.doors.push(MapDoor {
+            hypothesis: DoorHypothesis {
+                center,
+                jambs,
+                width,
+            },
+            confirmed: true,
+            place: None,
+        });
+        let i = map.doors.len() - 1;
+        let p = map.graph.add_node(Place {
+            pos: center,
+            door: Some(i),
+        });
+        map.doors[i].place = Some(p);
+        p
     }
 
     /// `two_rooms_with`, the right room unknown or not.
@@ -835,19 +870,15 @@ mod tests {
     /// is near them, not at them: the wall stays between the rooms.
     #[test]
     fn walking_beside_a_wall_never_joins_the_room_behind_it() {
-        let (w, h) = (86usize, 60usize);
-        let mut rows = vec![];
-        for r in 0..h {
+        let h = 60;
+        let g = walled(86, h, |c, r| {
             let y = (h - 1 - r) as f64 * 0.1;
-            let mut line = String::new();
-            for c in 0..w {
-                let border = r < 2 || r >= h - 2 || c < 2 || c >= w - 2;
-                let wall = (42..44).contains(&c) && !(0.6..1.5).contains(&y);
-                line.push(if border || wall { '#' } else { '.' });
+            if (42..44).contains(&c) && !(0.6..1.5).contains(&y) {
+                '#'
+            } else {
+                '.'
             }
-            rows.push(line);
-        }
-        let g = OccupancyGrid::from_ascii(&(rows.join("\n") + "\n"), 0.1, [0.0, 0.0]).unwrap();
+        });
         let mut map = PlaceMap::new(PlaceMapParams::default());
         walk(
             &mut map,
@@ -889,37 +920,9 @@ mod tests {
     /// walked straight, not through the door: the rooms on either side of the wall stay apart.
     #[test]
     fn a_walk_across_a_door_line_beyond_its_jamb_in_plain_sight_is_not_through_the_door() {
-        let (w, h) = (86usize, 40usize);
-        let rows: Vec<String> = (0..h)
-            .map(|r| {
-                (0..w)
-                    .map(|c| {
-                        let border = r < 2 || r >= h - 2 || c < 2 || c >= w - 2;
-                        if border || (42..44).contains(&c) {
-                            '#'
-                        } else {
-                            '.'
-                        }
-                    })
-                    .collect()
-            })
-            .collect();
-        let g = OccupancyGrid::from_ascii(&(rows.join("\n") + "\n"), 0.1, [0.0, 0.0]).unwrap();
+        let g = walled(86, 40, |c, _| if (42..44).contains(&c) { '#' } else { '.' });
         let mut map = PlaceMap::new(PlaceMapParams::default());
-        map.doors.push(MapDoor {
-            hypothesis: DoorHypothesis {
-                center: [3.4, 0.9],
-                jambs: [[2.85, 0.85], [3.95, 0.95]],
-                width: 1.0,
-            },
-            confirmed: true,
-            place: None,
-        });
-        let door = map.graph.add_node(Place {
-            pos: [3.4, 0.9],
-            door: Some(0),
-        });
-        map.doors[0].place = Some(door);
+        let door = confirmed_door(&mut map, [[2.85, 0.85], [3.95, 0.95]], 1.0);
         let left = map.graph.add_node(Place {
             pos: [3.05, 1.6],
             door: None,
@@ -962,23 +965,12 @@ mod tests {
     #[test]
     fn places_on_one_side_of_a_door_are_one_room_even_when_joined_only_through_it() {
         let mut map = PlaceMap::new(PlaceMapParams::default());
-        map.doors.push(MapDoor {
-            hypothesis: DoorHypothesis {
-                center: [5.0, 2.5],
-                jambs: [[4.5, 2.5], [5.5, 2.5]],
-                width: 0.9,
-            },
-            confirmed: true,
-            place: None,
-        });
-        let place = |map: &mut PlaceMap, pos: [f64; 2], door: Option<usize>| {
-            map.graph.add_node(Place { pos, door })
-        };
-        let door = place(&mut map, [5.0, 2.5], Some(0));
-        map.doors[0].place = Some(door);
-        let west = place(&mut map, [2.0, 1.5], None);
-        let east = place(&mut map, [8.0, 1.5], None);
-        let above = place(&mut map, [5.0, 4.0], None);
+        let door = confirmed_door(&mut map, [[4.5, 2.5], [5.5, 2.5]], 0.9);
+        let place =
+            |map: &mut PlaceMap, pos: [f64; 2]| map.graph.add_node(Place { pos, door: None });
+        let west = place(&mut map, [2.0, 1.5]);
+        let east = place(&mut map, [8.0, 1.5]);
+        let above = place(&mut map, [5.0, 4.0]);
         for p in [west, east, above] {
             let length = dist(map.graph[p].pos, map.graph[door].pos);
             map.graph.add_edge(
