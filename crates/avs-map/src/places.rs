@@ -16,8 +16,9 @@
 //!   [`WALL_SPAN`] long — the gap between a table and a wall is neither).
 //!   When the robot's motion crosses an opening the door is *confirmed*: a door place is put at
 //!   its centre, places dropped in the doorway before are absorbed into it, and earlier paths
-//!   across the opening (or the wall within a metre of it) are cut, so every way through runs
-//!   via the door place.
+//!   across the opening (or across the wall within a metre of it, between places that do not
+//!   see each other) are cut, so every way through runs via the door place; a walk recorded
+//!   later is routed through the door place by the same rule.
 //! * **Placeholders** sit on the frontier between known free and unknown space: one per connected
 //!   frontier segment at least `min_frontier` long, hanging off the nearest place that sees it,
 //!   with the open area around it and the distance to the nearest door hypothesis — the two cues
@@ -644,9 +645,6 @@ impl PlaceMap {
     }
 }
 
-/// Whether the segment `a`–`b` crosses the door's line within a metre beyond either jamb: a path
-/// between places that crosses there went through the doorway (or through the wall around
-/// it), so it must go through the door place instead. Checked both ways, so it is symmetric.
 /// Whether the way between two places the robot travelled between went through door `h`:
 /// their straight line crosses its opening, or crosses the wall within a metre beside it
 /// ([`crosses_door_wall`]) and the two do not see each other over the known grid (the robot
@@ -661,6 +659,9 @@ fn goes_through(known: &OccupancyGrid, h: &DoorHypothesis, a: [f64; 2], b: [f64;
         || (crosses_door_wall(h, a, b) && !line_of_sight(known, a, b, true))
 }
 
+/// Whether the segment `a`–`b` crosses the door's line within a metre beyond either jamb: a path
+/// between places that crosses there went through the doorway (or through the wall around
+/// it), so it must go through the door place instead. Checked both ways, so it is symmetric.
 fn crosses_door_wall(h: &DoorHypothesis, a: [f64; 2], b: [f64; 2]) -> bool {
     const BEYOND: f64 = 1.0;
     let [ja, jb] = h.jambs;
