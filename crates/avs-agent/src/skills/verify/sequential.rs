@@ -15,14 +15,19 @@
 //!   on the sighting from inside that range ([`super::closer`]).
 //! * **The prior** is the candidate's ([`super`] module docs); the sighting that made the
 //!   candidate is not counted again (it is why there is a candidate at all).
-//! * **The prices.** Both wrong decisions end the search without its target: a wrong report
-//!   fails the goal, and a rejected target is remembered as a look-alike and not searched for
-//!   there again. Each costs the planner's price of failure, its reward R
-//!   ([`avs_plan::SearchOptions::reward`], in metres of travel as the plans' costs are); a look
-//!   costs what processing a view cone costs in metres (`process_cost / travel_cost_per_m`).
-//!   With R = 1000 and 2 m per look, the policy looks until it is about 99.8 % sure either
-//!   way, or its budget ([`crate::config::Tuning::sequential_max_looks`]) is spent, and then
-//!   decides on the belief it has.
+//! * **The prices.** Both wrong decisions are priced as a failed search, the planner's reward R
+//!   ([`avs_plan::SearchOptions::reward`], in metres of travel as the plans' costs are): a
+//!   wrong report fails the goal; a rejected target is remembered as a look-alike within the
+//!   reach of the looks ([`crate::memory::Rejection`]), so that sightings there are not
+//!   verified again. That second price is an upper bound: a later sighting beyond the reach is
+//!   a new candidate, and on 200 generated floors (BENCHMARKS.md, issue 17 session "a place
+//!   behind a wall") 14 of the 15 runs that rejected their real target once still found it,
+//!   71 m later on average. A lower constant price was measured and not kept: it lost real
+//!   targets whose prior is small. A look costs what processing a view cone costs in metres
+//!   (`process_cost / travel_cost_per_m`). With R = 1000 and 2 m per look, the policy looks
+//!   until it is about 99.8 % sure either way, or its budget
+//!   ([`crate::config::Tuning::sequential_max_looks`]) is spent, and then decides on the
+//!   belief it has.
 //! * **Where it is wrong.** Looks from one standpoint are independent only for a detector
 //!   whose errors are fresh draws each look (the simulator's default). A detector whose errors
 //!   follow the vantage point (`--detector correlated`) needs the planned verifiers.
