@@ -80,6 +80,12 @@ pub struct AgentConfig {
     /// room costs path, not the target. `false` gives up at once, as the paper's planner does
     /// (`002` §III).
     pub cover_before_giving_up: bool,
+    /// What a wrong report costs the `sequential` verifier, in failed searches (each the
+    /// planner's reward R, `planner.search.reward`); a rejected real target costs one, and so
+    /// does a wrong landmark (never reported). A failed search can go on (a target rejected
+    /// once is found again from farther away in most runs); a wrong report ends it with an
+    /// answer that sends whoever acts on it to the wrong object. At least 1 (the default).
+    pub wrong_report_price: f64,
     /// Seed of the verification planners' sampled look sequences (combined with the
     /// candidate's number in the search, so the same seed gives the same trace).
     pub verifier_seed: u64,
@@ -228,6 +234,14 @@ impl Default for AgentConfig {
             max_cones: 24,
             strategy: Strategy::Planner,
             cover_before_giving_up: true,
+            // One failed search: the evidence of look-alikes on 200 bench floors is one wrongly
+            // accepted candidate in about 600, 1–2 wrong reports per bench. At 10, none in four
+            // of five benches (one where three mugs stood within the confirm radius), but real
+            // targets that show in fewer closer looks than the model's 1 − FN (markers,
+            // staplers) were rejected more: 30-room success 0.983 → 0.950 over 60 floors
+            // (BENCHMARKS.md, issue 17 session on false landmarks). A user who fears a wrong
+            // report more than a longer search raises it.
+            wrong_report_price: 1.0,
             verifier_seed: 0,
             zoom_pipeline: false,
             zoom: avs_view::zoom::ZoomConfig::default(),
@@ -248,7 +262,7 @@ impl AgentConfig {
         let finite_pos = |x: f64| x.is_finite() && x > 0.0;
         let finite_nonneg = |x: f64| x.is_finite() && x >= 0.0;
         let prob = |x: f64| (0.0..=1.0).contains(&x);
-        let checks: [(&'static str, f64, bool, &'static str); 33] = [
+        let checks: [(&'static str, f64, bool, &'static str); 34] = [
             (
                 "min_confidence",
                 self.min_confidence,
@@ -296,6 +310,12 @@ impl AgentConfig {
                 r.absent,
                 r.absent.is_finite() && r.absent > r.wrong,
                 "a finite number above session_rewards.wrong",
+            ),
+            (
+                "wrong_report_price",
+                self.wrong_report_price,
+                self.wrong_report_price.is_finite() && self.wrong_report_price >= 1.0,
+                "a finite number of at least 1",
             ),
             (
                 "session_discount",

@@ -305,11 +305,44 @@ impl OccupancyGrid {
     pub fn count(&self, c: Cell) -> usize {
         self.cells.iter().filter(|&&x| x == c).count()
     }
+
+    /// Whether every cell whose centre lies within `radius` of `p` is known free (the cell
+    /// holding `p` always counts; outside the grid is unknown): the laser has seen open floor
+    /// all around `p`, so nothing that stands on the floor and blocks the laser is there.
+    pub fn free_within(&self, p: [f64; 2], radius: f64) -> bool {
+        let (c0, r0) = self.world_to_cell(p[0], p[1]);
+        if self.get_i(c0, r0) != Cell::Free {
+            return false;
+        }
+        let k = (radius.max(0.0) / self.resolution).ceil() as i64;
+        (-k..=k).all(|dr| {
+            (-k..=k).all(|dc| {
+                let (x, y) = self.cell_center(c0 + dc, r0 + dr);
+                (x - p[0]).hypot(y - p[1]) > radius || self.get_i(c0 + dc, r0 + dr) == Cell::Free
+            })
+        })
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn free_within_holds_only_where_every_cell_in_the_disc_is_known_free() {
+        // 0.5 m cells: a wall along the top row, unknown space in the bottom-left corner.
+        let g =
+            OccupancyGrid::from_ascii("######\n......\n......\n......\n??....", 0.5, [0.0, 0.0])
+                .unwrap();
+        // Row 2 from the top is y 1.0–1.5; the middle of the grid is open floor for a metre.
+        assert!(g.free_within([1.75, 1.25], 0.5));
+        // A disc that reaches the wall row (y ≥ 2.0) or the unknown corner is not.
+        assert!(!g.free_within([1.75, 1.75], 0.5));
+        assert!(!g.free_within([0.75, 0.75], 0.5));
+        // Radius 0 asks about the cell holding the point alone; beyond the grid is unknown.
+        assert!(g.free_within([1.75, 1.75], 0.0));
+        assert!(!g.free_within([-1.0, 1.0], 0.0));
+    }
 
     /// Issue 18 reproducer: a map descriptor with a value nested 100,000 deep took serde_yaml
     /// over a minute; the descriptor is now read with the avs YAML loader's bounds and the

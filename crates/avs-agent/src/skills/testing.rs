@@ -41,6 +41,21 @@ pub fn room(w: f64, h: f64) -> OccupancyGrid {
     g
 }
 
+/// `grid` with a piece of furniture standing at `(x, y)`: its axis-aligned `w` × `d` metre
+/// footprint occupied, as a laser map holds it.
+pub fn furnish(mut grid: OccupancyGrid, [x, y]: [f64; 2], [w, d]: [f64; 2]) -> OccupancyGrid {
+    let (c0, r0) = grid.world_to_cell(x - w / 2.0, y - d / 2.0);
+    let (c1, r1) = grid.world_to_cell(x + w / 2.0, y + d / 2.0);
+    for row in r0..r1 {
+        for col in c0..c1 {
+            if grid.contains(col, row) {
+                grid.set(col as usize, row as usize, Cell::Occupied);
+            }
+        }
+    }
+    grid
+}
+
 /// Two 4 m × 4 m rooms side by side ([`room`] 8 × 4 m), a 0.9 m door in the wall between
 /// them at x = 4 m.
 pub fn two_rooms() -> OccupancyGrid {
@@ -169,7 +184,16 @@ pub struct Verified {
 /// Verify a cerealbox sighting at (4.5, 2) seen from (1, 2) in a 6 × 4 m room with
 /// knowledge `k`; `prepare` sets the robot up first (places the object, scripts replies).
 pub fn verify_cerealbox(k: &Knowledge, prepare: impl FnOnce(&mut ScriptedRobot)) -> Verified {
-    let config = AgentConfig::default();
+    verify_cerealbox_with(k, &AgentConfig::default(), prepare)
+}
+
+/// [`verify_cerealbox`] under agent configuration `config`.
+pub fn verify_cerealbox_with(
+    k: &Knowledge,
+    config: &AgentConfig,
+    prepare: impl FnOnce(&mut ScriptedRobot),
+) -> Verified {
+    let config = config.clone();
     let mut robot = self::robot(room(6.0, 4.0), [1.0, 2.0]);
     let mut mem = memory(&config, k, &mut robot);
     prepare(&mut robot);

@@ -15,19 +15,24 @@
 //!   on the sighting from inside that range ([`super::closer`]).
 //! * **The prior** is the candidate's ([`super`] module docs); the sighting that made the
 //!   candidate is not counted again (it is why there is a candidate at all).
-//! * **The prices.** Both wrong decisions are priced as a failed search, the planner's reward R
-//!   ([`avs_plan::SearchOptions::reward`], in metres of travel as the plans' costs are): a
-//!   wrong report fails the goal; a rejected target is remembered as a look-alike within the
-//!   reach of the looks ([`crate::memory::Rejection`]), so that sightings there are not
-//!   verified again. That second price is an upper bound: a later sighting beyond the reach is
-//!   a new candidate, and on 200 generated floors (BENCHMARKS.md, issue 17 session "a place
-//!   behind a wall") 14 of the 15 runs that rejected their real target once still found it,
-//!   71 m later on average. A lower constant price was measured and not kept: it lost real
-//!   targets whose prior is small. A look costs what processing a view cone costs in metres
+//! * **The prices.** A rejected target is priced as a failed search, the planner's reward R
+//!   ([`avs_plan::SearchOptions::reward`], in metres of travel as the plans' costs are): it is
+//!   remembered as a look-alike within the reach of the looks ([`crate::memory::Rejection`]),
+//!   so that sightings there are not verified again. That price is an upper bound: a later
+//!   sighting beyond the reach is a new candidate, and on 200 generated floors (BENCHMARKS.md,
+//!   issue 17 session "a place behind a wall") 14 of the 15 runs that rejected their real
+//!   target once still found it, 71 m later on average. A lower constant price was measured
+//!   and not kept: it lost real targets whose prior is small. A wrong report ends the search
+//!   with a wrong answer: it costs [`crate::AgentConfig::wrong_report_price`] failed searches
+//!   (1 by default: about one look-alike candidate in 600 is then accepted, 1–2 wrong reports
+//!   per 200 bench floors; at 10 none in four benches of five, but real markers and staplers
+//!   that show in fewer closer looks than the model says were rejected more, see the field's
+//!   docs). A landmark is never reported: accepting a wrong one costs the searches made on it,
+//!   priced as one failed search. A look costs what processing a view cone costs in metres
 //!   (`process_cost / travel_cost_per_m`). With R = 1000 and 2 m per look, the policy looks
-//!   until it is about 99.8 % sure either way, or its budget
-//!   ([`crate::config::Tuning::sequential_max_looks`]) is spent, and then decides on the
-//!   belief it has.
+//!   until it is about 99.8 % sure either way (at a wrong-report price of 10, 99.98 % sure of
+//!   an object), or its budget ([`crate::config::Tuning::sequential_max_looks`]) is spent,
+//!   and then decides on the belief it has.
 //! * **Where it is wrong.** Looks from one standpoint are independent only for a detector
 //!   whose errors are fresh draws each look (the simulator's default). A detector whose errors
 //!   follow the vantage point (`--detector correlated`) needs the planned verifiers.
@@ -54,9 +59,15 @@ fn model(cx: Ctx, label: &str) -> (BinaryLooks, StopCosts) {
         hit_if_not: clamp(false_alarm),
     };
     let failure = cx.config.planner.search.reward;
+    // A landmark is never reported: a wrong one costs the searches made on it.
+    let reported = !cx.knowledge.class(label).is_some_and(|c| c.landmark);
     let costs = StopCosts {
         look: cx.config.process_cost / cx.config.travel_cost_per_m,
-        wrong_accept: failure,
+        wrong_accept: if reported {
+            cx.config.wrong_report_price * failure
+        } else {
+            failure
+        },
         wrong_reject: failure,
     };
     (looks, costs)
@@ -179,6 +190,28 @@ mod tests {
         assert!(belief.unwrap() > 0.99, "{belief:?}");
         assert!(looks.len() >= 3, "{looks:?}");
         assert!(v.rejected.is_empty());
+    }
+
+    /// A wrong report priced at ten failed searches asks for more hits before a real object
+    /// is accepted than one priced at one; both accept it.
+    #[test]
+    fn a_dearer_wrong_report_asks_for_more_hits_before_accepting() {
+        let looks_at = |price: f64| {
+            let config = crate::AgentConfig {
+                wrong_report_price: price,
+                ..crate::AgentConfig::default()
+            };
+            let v = testing::verify_cerealbox_with(&testing::knowledge(), &config, |r| {
+                r.place(object("cerealbox", 4.5, 2.0, 0.14))
+            });
+            let (accepted, belief, _) = decision(&v);
+            assert!(accepted && v.confirmed.is_some(), "price {price}");
+            (v.metrics.verification_looks, belief.unwrap())
+        };
+        let (cheap, b1) = looks_at(1.0);
+        let (dear, b10) = looks_at(10.0);
+        assert!(dear > cheap, "{dear} looks at price 10, {cheap} at 1");
+        assert!(b10 > b1, "belief {b10} at price 10, {b1} at 1");
     }
 
     #[test]
