@@ -518,13 +518,8 @@ mod tests {
     fn a_landmark_seen_over_a_table_is_in_the_room() {
         let (config, k) = (AgentConfig::default(), testing::knowledge());
         // A 6 m × 6 m room (the gaps beside the table are wider than a door).
-        let mut grid = testing::room(6.0, 6.0);
         // A 1.2 m × 1.6 m table in the middle, between the robot and the counter.
-        for col in 24..36 {
-            for row in 22..38 {
-                grid.set(col, row, avs_map::grid::Cell::Occupied);
-            }
-        }
+        let grid = testing::furnish(testing::room(6.0, 6.0), [3.0, 3.0], [1.2, 1.6]);
         let grid = testing::furnish(grid, [5.3, 3.0], [0.6, 2.0]);
         let mut robot = testing::robot(grid, [1.5, 3.0]);
         robot.place(object("counter", 5.3, 3.0, 0.9));

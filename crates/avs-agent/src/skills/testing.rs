@@ -44,8 +44,12 @@ pub fn room(w: f64, h: f64) -> OccupancyGrid {
 /// `grid` with a piece of furniture standing at `(x, y)`: its axis-aligned `w` × `d` metre
 /// footprint occupied, as a laser map holds it.
 pub fn furnish(mut grid: OccupancyGrid, [x, y]: [f64; 2], [w, d]: [f64; 2]) -> OccupancyGrid {
-    let (c0, r0) = grid.world_to_cell(x - w / 2.0, y - d / 2.0);
-    let (c1, r1) = grid.world_to_cell(x + w / 2.0, y + d / 2.0);
+    // The cell boundaries nearest the footprint's edges (a floor would put 2.4 m on the
+    // 0.1 m grid at 23.999… cells).
+    let [ox, oy] = grid.origin();
+    let at = |v: f64, o: f64| ((v - o) / grid.resolution()).round() as i64;
+    let (c0, c1) = (at(x - w / 2.0, ox), at(x + w / 2.0, ox));
+    let (r0, r1) = (at(y - d / 2.0, oy), at(y + d / 2.0, oy));
     for row in r0..r1 {
         for col in c0..c1 {
             if grid.contains(col, row) {
