@@ -84,7 +84,7 @@ pub struct AgentConfig {
     /// planner's reward R, `planner.search.reward`); a rejected real target costs one, and so
     /// does a wrong landmark (never reported). A failed search can go on (a target rejected
     /// once is found again from farther away in most runs); a wrong report ends it with an
-    /// answer that sends whoever acts on it to the wrong object. At least 1 (the default).
+    /// answer that sends whoever acts on it to the wrong object. At least 1; 10 by default.
     pub wrong_report_price: f64,
     /// Seed of the verification planners' sampled look sequences (combined with the
     /// candidate's number in the search, so the same seed gives the same trace).
@@ -234,14 +234,15 @@ impl Default for AgentConfig {
             max_cones: 24,
             strategy: Strategy::Planner,
             cover_before_giving_up: true,
-            // One failed search: the evidence of look-alikes on 200 bench floors is one wrongly
-            // accepted candidate in about 600, 1–2 wrong reports per bench. At 10, none in four
-            // of five benches (one where three mugs stood within the confirm radius), but real
-            // targets that show in fewer closer looks than the model's 1 − FN (markers,
-            // staplers) were rejected more: 30-room success 0.983 → 0.950 over 60 floors
-            // (BENCHMARKS.md, issue 17 session on false landmarks). A user who fears a wrong
-            // report more than a longer search raises it.
-            wrong_report_price: 1.0,
+            // Ten failed searches. At 1 (the old default) about one look-alike candidate in
+            // 600 was accepted, 1–2 wrong reports per 200 bench floors; at 10 alone real
+            // targets seen in fewer closer looks than the model's 1 − FN (looks centred on a
+            // sighting 0.2–0.35 m off the object) were rejected more. With the closer looks
+            // aimed at the best closer detection and earlier looks at a spot pooled
+            // (`skills::verify`), 10 gave no wrong report on the five 200-floor benches with
+            // success as at 1 in sum (BENCHMARKS.md, issue 17 session "earlier looks at a
+            // spot"). A user who prefers a shorter search to a sure answer lowers it.
+            wrong_report_price: 10.0,
             verifier_seed: 0,
             zoom_pipeline: false,
             zoom: avs_view::zoom::ZoomConfig::default(),

@@ -225,11 +225,12 @@
 //!   `avs_verify::sequential`) looks until the Bayes-optimal policy of the knowledge's binary
 //!   detector decides: from the candidate's prior, each hit in the recognition range multiplies
 //!   the odds by (1 − FN)/FP = 16, each miss by FN/(1 − FP) ≈ 0.21; a rejected target costs the
-//!   planner's price of failure (R = 1000 m), as does a wrong report unless
-//!   `AgentConfig::wrong_report_price` says it is worse, against 2 m a look, so it accepts at
-//!   about 99.8 % (four or five hits from a 1–5 % prior) within eight looks, or on the belief
-//!   it has when they are spent. The `count` rule (Masuzawa &
-//!   Miura `001` §4, reduced to one viewpoint) accepts two detections within 0.6 m in at most
+//!   planner's price of failure (R = 1000 m), a wrong report ten times that
+//!   (`AgentConfig::wrong_report_price`), against 2 m a look, so it accepts at about 99.98 %
+//!   (five or six hits from a 1–5 % prior) within eight looks, or on the belief it has when
+//!   they are spent; its looks aim at the best closer detection so far, and a later candidate
+//!   within reach of a rejected one starts from the evidence of that one's looks. The `count`
+//!   rule (Masuzawa & Miura `001` §4, reduced to one viewpoint) accepts two detections within 0.6 m in at most
 //!   three looks whatever the prior: a real object passes with 0.90, a look-alike in reach one
 //!   verification in about 55 (the wrong reports of the benches before the `sequential` rule).
 //!   A rejected sighting is remembered with the reach of its looks (half the image's width at

@@ -103,16 +103,37 @@ impl BinaryLooks {
         if prior <= 0.0 || prior >= 1.0 {
             return prior.clamp(0.0, 1.0);
         }
-        let lo = (prior / (1.0 - prior)).ln()
+        let lo = log_odds(prior)
             + hits as f64 * (self.hit_if_object / self.hit_if_not).ln()
             + misses as f64 * ((1.0 - self.hit_if_object) / (1.0 - self.hit_if_not)).ln();
-        1.0 / (1.0 + (-lo).exp())
+        from_log_odds(lo)
     }
 
     /// P(the next look detects it | belief `b`).
     pub fn p_hit(&self, b: f64) -> f64 {
         b * self.hit_if_object + (1.0 - b) * self.hit_if_not
     }
+}
+
+/// The log-odds `ln(p / (1 − p))` of a probability in (0, 1) (±∞ at 0 and 1).
+///
+/// Evidence adds in log-odds: the log-odds after looks is the prior's plus the natural log of
+/// the looks' Bayes factor, so `log_odds(posterior) − log_odds(prior)` is what the looks said.
+/// ```
+/// use avs_verify::sequential::{from_log_odds, log_odds, BinaryLooks};
+/// let looks = BinaryLooks { hit_if_object: 0.8, hit_if_not: 0.05 };
+/// let b = looks.posterior(0.1, 2, 1);
+/// let evidence = log_odds(b) - log_odds(0.1);
+/// // The same looks move another prior by the same amount.
+/// assert!((from_log_odds(log_odds(0.3) + evidence) - looks.posterior(0.3, 2, 1)).abs() < 1e-12);
+/// ```
+pub fn log_odds(p: f64) -> f64 {
+    (p / (1.0 - p)).ln()
+}
+
+/// The probability whose log-odds is `l` (the logistic function; 0 and 1 at −∞ and +∞).
+pub fn from_log_odds(l: f64) -> f64 {
+    1.0 / (1.0 + (-l).exp())
 }
 
 /// The cost of deciding now at belief `b`, and whether accepting is the cheaper decision.

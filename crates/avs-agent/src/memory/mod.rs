@@ -216,6 +216,18 @@ pub(crate) fn standable(
     out
 }
 
+/// The failed verifications of `class` whose looks would have seen an object at `pos`: those
+/// within their [`Rejection::radius`] of it.
+pub(crate) fn rejections_covering<'a>(
+    rejected: &'a [Rejection],
+    class: &'a str,
+    pos: [f64; 2],
+) -> impl Iterator<Item = &'a Rejection> + 'a {
+    rejected
+        .iter()
+        .filter(move |r| r.class == class && dist(r.at, pos) < r.radius)
+}
+
 /// Whether a sighting of `class` at `pos` is a known look-alike: verification failed at least
 /// `times` times within `radius` of it.
 pub(crate) fn is_look_alike(
@@ -224,11 +236,7 @@ pub(crate) fn is_look_alike(
     pos: [f64; 2],
     times: usize,
 ) -> bool {
-    rejected
-        .iter()
-        .filter(|r| r.class == class && dist(r.at, pos) < r.radius)
-        .count()
-        >= times
+    rejections_covering(rejected, class, pos).count() >= times
 }
 
 /// A sighting a verification did not confirm.
@@ -243,6 +251,13 @@ pub struct Rejection {
     /// image reaches only so far beside the sighting (half its width there); an object
     /// farther off was not looked at, whatever the radius a detection confirms within.
     pub radius: f64,
+    /// What the verification's looks said of an object there, as the natural log of their
+    /// Bayes factor `P(looks | object) / P(looks | none)` under the verifier's own model
+    /// (log-odds of its final belief minus log-odds of its prior); 0 when the verifier keeps
+    /// no belief (the `count` rule) or decided on the prior without looking. A later
+    /// candidate within `radius` starts from its prior moved by this much
+    /// (`skills::verify`, "Earlier looks at the spot").
+    pub evidence: f64,
 }
 
 impl Memory {
@@ -769,6 +784,7 @@ mod tests {
             class: "cerealbox".to_string(),
             at: [x, y],
             radius,
+            evidence: 0.0,
         };
         let mut rejected = vec![at(1.0, 1.0, 0.6)];
         // One failed verification: a real object fails one in ten, so look again.

@@ -13,8 +13,13 @@
 //!   sighting whose estimated distance lies in the class's recognition range (scaled by the
 //!   look's zoom), where the detector recognises rather than guesses; the looks are centred
 //!   on the sighting from inside that range ([`super::closer`]).
-//! * **The prior** is the candidate's ([`super`] module docs); the sighting that made the
-//!   candidate is not counted again (it is why there is a candidate at all).
+//! * **The prior** is the candidate's ([`super`] module docs): the map's, moved by what
+//!   earlier failed verifications' looks said of the spot ("Earlier looks at the spot"); the
+//!   sighting that made the candidate is not counted again (it is why there is a candidate
+//!   at all).
+//! * **Where the looks aim**: at the sighting, then at the most confident closer detection
+//!   ([`super::closer`]); a real object off the look's centre is missed more often than the
+//!   model's `1 − FN` says.
 //! * **The prices.** A rejected target is priced as a failed search, the planner's reward R
 //!   ([`avs_plan::SearchOptions::reward`], in metres of travel as the plans' costs are): it is
 //!   remembered as a look-alike within the reach of the looks ([`crate::memory::Rejection`]),
@@ -24,15 +29,14 @@
 //!   target once still found it, 71 m later on average. A lower constant price was measured
 //!   and not kept: it lost real targets whose prior is small. A wrong report ends the search
 //!   with a wrong answer: it costs [`crate::AgentConfig::wrong_report_price`] failed searches
-//!   (1 by default: about one look-alike candidate in 600 is then accepted, 1–2 wrong reports
-//!   per 200 bench floors; at 10 none in four benches of five, but real markers and staplers
-//!   that show in fewer closer looks than the model says were rejected more, see the field's
-//!   docs). A landmark is never reported: accepting a wrong one costs the searches made on it,
-//!   priced as one failed search. A look costs what processing a view cone costs in metres
+//!   (10 by default, see the field's docs: at 1, about one look-alike candidate in 600 was
+//!   accepted, 1–2 wrong reports per 200 bench floors). A landmark is never reported:
+//!   accepting a wrong one costs the searches made on it, priced as one failed search. A look costs what processing a view cone costs in metres
 //!   (`process_cost / travel_cost_per_m`). With R = 1000 and 2 m per look, the policy looks
-//!   until it is about 99.8 % sure either way (at a wrong-report price of 10, 99.98 % sure of
-//!   an object), or its budget ([`crate::config::Tuning::sequential_max_looks`]) is spent,
-//!   and then decides on the belief it has.
+//!   until it is about 99.8 % sure that it is no object, and (at the default wrong-report
+//!   price of 10) 99.98 % sure of an object, or its budget
+//!   ([`crate::config::Tuning::sequential_max_looks`]) is spent, and then decides on the
+//!   belief it has.
 //! * **Where it is wrong.** Looks from one standpoint are independent only for a detector
 //!   whose errors are fresh draws each look (the simulator's default). A detector whose errors
 //!   follow the vantage point (`--detector correlated`) needs the planned verifiers.
@@ -244,6 +248,71 @@ mod tests {
         let (accepted, belief, _) = decision(&v);
         assert!(!accepted && belief.unwrap() < 0.01);
         assert!(looks.len() >= 3, "{looks:?}");
+    }
+
+    /// A failed verification is remembered with what its looks said (the log-odds its belief
+    /// moved by), and a sighting within their reach starts from the map's prior moved by that
+    /// much, with a line in the trace saying so.
+    #[test]
+    fn a_failed_verification_is_remembered_with_its_evidence_and_moves_the_next_prior() {
+        use avs_verify::sequential::{from_log_odds, log_odds};
+        let config = crate::AgentConfig::default();
+        let k = testing::knowledge();
+        let mut robot = testing::robot(testing::room(6.0, 4.0), [1.0, 2.0]);
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let mut sink = testing::sink();
+        let mut run = testing::run(&mut sink);
+        let mut verify = |robot: &mut ScriptedRobot, run: &mut crate::run::Run, x: f64| {
+            super::super::verify(
+                testing::ctx(&k, &config),
+                &mut mem,
+                &mut crate::body::Body::new(robot),
+                run,
+                "cerealbox",
+                &object("cerealbox", x, 2.0, 0.14),
+            )
+            .unwrap()
+        };
+        // Nothing there: every closer look misses, and the sighting is rejected.
+        assert!(verify(&mut robot, &mut run, 4.5).is_none());
+        // A second sighting 5 cm beside it, where the detector now fires at every look.
+        robot.place(object("cerealbox", 4.55, 2.0, 0.14));
+        verify(&mut robot, &mut run, 4.55);
+        let priors: Vec<f64> = run
+            .events
+            .iter()
+            .filter_map(|e| match e {
+                Event::CandidateCreated { prior, .. } => Some(*prior),
+                _ => None,
+            })
+            .collect();
+        let beliefs: Vec<f64> = run
+            .events
+            .iter()
+            .filter_map(|e| match e {
+                Event::VerificationDecision { belief, .. } => *belief,
+                _ => None,
+            })
+            .collect();
+        let evidence = mem.rejected[0].evidence;
+        assert!(
+            (evidence - (log_odds(beliefs[0]) - log_odds(priors[0]))).abs() < 1e-9
+                && evidence < -2.0,
+            "the misses' evidence: {evidence}, beliefs {beliefs:?}, priors {priors:?}"
+        );
+        let floor = super::super::PRIOR_FLOOR;
+        let moved = from_log_odds(log_odds(priors[0]) + evidence).clamp(floor, 1.0 - floor);
+        assert!(
+            (priors[1] - moved).abs() < 1e-12 && priors[1] < priors[0],
+            "{priors:?} {evidence}"
+        );
+        assert!(
+            run.events
+                .iter()
+                .any(|e| matches!(e, Event::Observed { what }
+                if what.contains("1 earlier verification(s)"))),
+            "the trace says why the prior moved"
+        );
     }
 
     #[test]
