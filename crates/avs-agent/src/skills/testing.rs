@@ -185,6 +185,14 @@ pub struct Verified {
     pub robot: ScriptedRobot,
 }
 
+/// The robot of the verification tests, at (1, 2) facing +x in an empty 6 × 4 m room, and
+/// the memory its search would have made there.
+pub fn verification_room(config: &AgentConfig, k: &Knowledge) -> (ScriptedRobot, Memory) {
+    let mut robot = robot(room(6.0, 4.0), [1.0, 2.0]);
+    let mem = memory(config, k, &mut robot);
+    (robot, mem)
+}
+
 /// Verify a cerealbox sighting at (4.5, 2) seen from (1, 2) in a 6 × 4 m room with
 /// knowledge `k`; `prepare` sets the robot up first (places the object, scripts replies).
 pub fn verify_cerealbox(k: &Knowledge, prepare: impl FnOnce(&mut ScriptedRobot)) -> Verified {
@@ -198,8 +206,7 @@ pub fn verify_cerealbox_with(
     prepare: impl FnOnce(&mut ScriptedRobot),
 ) -> Verified {
     let config = config.clone();
-    let mut robot = self::robot(room(6.0, 4.0), [1.0, 2.0]);
-    let mut mem = memory(&config, k, &mut robot);
+    let (mut robot, mut mem) = verification_room(&config, k);
     prepare(&mut robot);
     let mut sink = sink();
     let mut run = run(&mut sink);

@@ -287,8 +287,7 @@ mod tests {
     fn earlier_looks_move_the_prior_by_their_evidence_within_their_reach_down_to_the_floor() {
         let config = crate::AgentConfig::default();
         let k = testing::knowledge();
-        let mut robot = testing::robot(testing::room(6.0, 4.0), [1.0, 2.0]);
-        let mut mem = testing::memory(&config, &k, &mut robot);
+        let (_robot, mut mem) = testing::verification_room(&config, &k);
         let at = [4.5, 2.0];
         let (map, none) = candidate_prior(&mem, "cerealbox", at);
         assert_eq!(none.verifications, 0);

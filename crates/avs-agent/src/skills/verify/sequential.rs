@@ -258,8 +258,7 @@ mod tests {
         use avs_verify::sequential::{from_log_odds, log_odds};
         let config = crate::AgentConfig::default();
         let k = testing::knowledge();
-        let mut robot = testing::robot(testing::room(6.0, 4.0), [1.0, 2.0]);
-        let mut mem = testing::memory(&config, &k, &mut robot);
+        let (mut robot, mut mem) = testing::verification_room(&config, &k);
         let mut sink = testing::sink();
         let mut run = testing::run(&mut sink);
         let mut verify = |robot: &mut ScriptedRobot, run: &mut crate::run::Run, x: f64| {
@@ -319,8 +318,7 @@ mod tests {
     fn a_rejection_covers_only_what_its_looks_saw_beside_the_sighting() {
         let config = crate::AgentConfig::default();
         let k = testing::knowledge();
-        let mut robot = testing::robot(testing::room(6.0, 4.0), [1.0, 2.0]);
-        let mut mem = testing::memory(&config, &k, &mut robot);
+        let (mut robot, mut mem) = testing::verification_room(&config, &k);
         let mut sink = testing::sink();
         let mut run = testing::run(&mut sink);
         let d = object("cerealbox", 4.5, 2.0, 0.14);
