@@ -335,3 +335,32 @@ fn unfound_landmarks_and_the_ratio_objective_change_the_first_plan_as_documented
     let out = avs(&["search", "--goal", "cerealbox", "--objective", "greedy"]);
     assert_eq!(out.status.code(), Some(2), "{out:?}");
 }
+
+#[test]
+fn the_wrong_report_price_is_checked_and_asks_for_more_closer_looks_when_dearer() {
+    let looks = |price: &str| {
+        let mut args = OFFICE.to_vec();
+        args.extend(["--goal", "cerealbox", "--wrong-report-price", price]);
+        let out = avs(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let s: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON summary");
+        assert_eq!(s["found"], true, "price {price}");
+        s["verification_looks"].as_u64().unwrap()
+    };
+    // The same cerealbox, the same draws until it is verified: a dearer wrong report takes
+    // more hits before it is accepted.
+    let (cheap, dear) = (looks("1"), looks("10"));
+    assert!(dear > cheap, "{dear} looks at price 10, {cheap} at 1");
+    for bad in ["0.5", "inf", "x"] {
+        let mut args = OFFICE.to_vec();
+        args.extend(["--goal", "cerealbox", "--wrong-report-price", bad]);
+        let out = avs(&args);
+        let err = String::from_utf8_lossy(&out.stderr).to_string();
+        assert!(err.contains("--wrong-report-price"), "stderr: {err}");
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+    }
+}

@@ -49,6 +49,9 @@ pub struct BenchParams {
     pub unfound_landmarks: bool,
     /// Which plan the planner starts (`AgentConfig::planner`'s `objective`).
     pub objective: avs_plan::continual::Objective,
+    /// What a wrong report costs the verifier, in failed searches
+    /// (`AgentConfig::wrong_report_price`).
+    pub wrong_report_price: f64,
 }
 
 /// One floor's run.
@@ -164,6 +167,7 @@ pub fn bench(
         ..AgentConfig::default()
     };
     config.planner.objective = p.objective;
+    config.wrong_report_price = p.wrong_report_price;
     if p.zoom_pipeline {
         // The pipeline's ranges and rates, measured once on the simulated camera (every
         // generated floor has the default camera).

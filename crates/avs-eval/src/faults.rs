@@ -330,6 +330,7 @@ pub fn fault_matrix(
         zoom_pipeline: false,
         unfound_landmarks: AgentConfig::default().unfound_landmarks,
         objective: AgentConfig::default().planner.objective,
+        wrong_report_price: AgentConfig::default().wrong_report_price,
     };
     let floors: Vec<(u64, String, World)> = (0..p.floors as u64)
         .into_par_iter()

@@ -118,6 +118,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         zoom_pipeline: a.zoom,
         unfound_landmarks: a.model.unfound_landmarks,
         objective: a.model.objective.into(),
+        wrong_report_price: a.model.wrong_report_price,
     };
     let r = bench(&knowledge, &domain, &params, &tick)?;
     bar.finish();

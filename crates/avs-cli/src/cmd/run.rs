@@ -36,6 +36,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         zoom_pipeline: avs_agent::AgentConfig::default().zoom_pipeline,
         unfound_landmarks: avs_agent::AgentConfig::default().unfound_landmarks,
         objective: avs_agent::AgentConfig::default().planner.objective,
+        wrong_report_price: avs_agent::AgentConfig::default().wrong_report_price,
         faults: Default::default(),
         edits: Default::default(),
         before: &[],

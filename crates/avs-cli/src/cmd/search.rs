@@ -134,6 +134,26 @@ pub struct ModelArgs {
     /// probability per unit of cost, the default).
     #[arg(long, value_enum, default_value_t = ObjectiveArg::default())]
     pub objective: ObjectiveArg,
+    /// What a wrong report costs the `sequential` verifier, in failed searches (at least 1):
+    /// the higher, the surer it must be of a candidate before reporting it, and the more
+    /// closer looks a real target needs (see `AgentConfig::wrong_report_price`).
+    #[arg(long, value_name = "FAILED_SEARCHES", value_parser = parse_wrong_report_price,
+          default_value_t = AgentConfig::default().wrong_report_price)]
+    pub wrong_report_price: f64,
+}
+
+/// `--wrong-report-price`: a finite number of failed searches, at least 1.
+fn parse_wrong_report_price(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number (expected failed searches, at least 1)"))?;
+    if v.is_finite() && v >= 1.0 {
+        Ok(v)
+    } else {
+        Err(format!(
+            "{v}: a wrong report costs at least one failed search (expected a finite number ≥ 1)"
+        ))
+    }
 }
 
 /// Which plan the planner starts (`--objective`).
@@ -240,6 +260,8 @@ pub struct Request<'a> {
     pub unfound_landmarks: bool,
     /// Which plan the planner starts.
     pub objective: avs_plan::continual::Objective,
+    /// What a wrong report costs the verifier, in failed searches.
+    pub wrong_report_price: f64,
     /// Fault injection.
     pub faults: Faults,
     /// World edits before the search.
@@ -340,6 +362,7 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
         cover_before_giving_up: r.cover_before_giving_up,
         zoom_pipeline: r.zoom_pipeline,
         unfound_landmarks: r.unfound_landmarks,
+        wrong_report_price: r.wrong_report_price,
         ..AgentConfig::default()
     };
     config.planner.objective = r.objective;
@@ -571,6 +594,7 @@ fn search(a: Args) -> anyhow::Result<bool> {
         zoom_pipeline: a.zoom,
         unfound_landmarks: a.model.unfound_landmarks,
         objective: a.model.objective.into(),
+        wrong_report_price: a.model.wrong_report_price,
         faults: Faults {
             detector: a.detector.into(),
             failure_rate: a.failure_rate,
