@@ -1,6 +1,6 @@
 //! Closer looks at a sighting, shared by the verifiers of a binary detector (`count`,
-//! `sequential`): where to stand ([`approach`]) and one look centred on the sighting
-//! ([`Closer::look`]).
+//! `sequential`): where to stand ([`approach`]) and one look centred on the sighting, then on
+//! the best closer detection so far ([`Closer::look`]).
 
 use super::CandidateRef;
 use crate::body::Body;
@@ -204,6 +204,11 @@ impl Closer<'_> {
         seen
     }
 
+    /// The most confident closer detection so far (the pose a verifier reports), if any.
+    pub fn best(&self) -> Option<&Detection> {
+        self.best.as_ref()
+    }
+
     /// How far beside the sighting every look so far reached, metres (`None` before the
     /// first look): a rejection covers no more than this ([`crate::memory::Rejection`]).
     pub fn reach(&self) -> Option<f64> {
@@ -213,7 +218,7 @@ impl Closer<'_> {
 
 /// Keep the more confident of the detection so far and a new one (the pose a verifier reports
 /// is the best closer look's).
-pub(crate) fn keep_best(best: &mut Option<Detection>, e: Detection) {
+fn keep_best(best: &mut Option<Detection>, e: Detection) {
     if best.as_ref().is_none_or(|c| c.confidence < e.confidence) {
         *best = Some(e);
     }

@@ -1,14 +1,14 @@
 //! The `count` rule: a closer look at a sighting before it is reported (the verification step
 //! of Masuzawa & Miura, `001` §4, reduced to one viewpoint), accepted on enough detections.
 
-use super::closer::{approach, keep_best};
+use super::closer::approach;
 use super::{CandidateRef, Verdict};
 use crate::body::Body;
 use crate::memory::Memory;
 use crate::run::Run;
 use crate::skills::Ctx;
 use crate::AgentError;
-use avs_robot::{Detection, Robot};
+use avs_robot::Robot;
 
 /// Verify a sighting before reporting it: walk to a closer standpoint ([`approach`]) and look
 /// at it ([`super::closer::Closer::look`]); `verify_hits` detections of the class within `confirm_radius` of
@@ -26,7 +26,6 @@ pub(crate) fn count_rule<R: Robot + ?Sized>(
     let Some(mut closer) = approach(cx, mem, body, run, c)? else {
         return Ok(Verdict::rejected("the class is not in the knowledge file"));
     };
-    let mut confirmed: Option<Detection> = None;
     let mut hits = 0;
     let mut looks = 0;
     for look in 0..t.verify_looks {
@@ -34,29 +33,30 @@ pub(crate) fn count_rule<R: Robot + ?Sized>(
             break; // cannot reach the hits needed any more
         }
         looks += 1;
-        if let Some(e) = closer.look(cx, body, run, false) {
+        if closer.look(cx, body, run, false).is_some() {
             hits += 1;
-            keep_best(&mut confirmed, e);
             if hits >= t.verify_hits {
                 break;
             }
         }
     }
     body.refresh_map(mem);
-    Ok(match confirmed.filter(|_| hits >= t.verify_hits) {
-        Some(c) => Verdict {
-            confirmed: Some(c),
-            belief: None,
-            looks,
-            reason: format!("{hits} of {looks} closer looks detected it"),
-            reach: closer.reach(),
+    Ok(
+        match closer.best().filter(|_| hits >= t.verify_hits).cloned() {
+            Some(c) => Verdict {
+                confirmed: Some(c),
+                belief: None,
+                looks,
+                reason: format!("{hits} of {looks} closer looks detected it"),
+                reach: closer.reach(),
+            },
+            None => Verdict {
+                looks,
+                reach: closer.reach(),
+                ..Verdict::rejected(&format!("{hits} of {looks} closer looks detected it"))
+            },
         },
-        None => Verdict {
-            looks,
-            reach: closer.reach(),
-            ..Verdict::rejected(&format!("{hits} of {looks} closer looks detected it"))
-        },
-    })
+    )
 }
 
 #[cfg(test)]

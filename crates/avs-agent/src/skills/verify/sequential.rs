@@ -41,14 +41,14 @@
 //!   whose errors are fresh draws each look (the simulator's default). A detector whose errors
 //!   follow the vantage point (`--detector correlated`) needs the planned verifiers.
 
-use super::closer::{approach, keep_best};
+use super::closer::approach;
 use super::{CandidateRef, Verdict};
 use crate::body::Body;
 use crate::memory::Memory;
 use crate::run::Run;
 use crate::skills::Ctx;
 use crate::AgentError;
-use avs_robot::{Detection, Robot};
+use avs_robot::Robot;
 use avs_verify::sequential::{decide, BinaryLooks, Decision, StopCosts};
 
 /// A look's hit rates are kept at least this far from 0 and 1.
@@ -113,7 +113,6 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
         return Ok(Verdict::rejected("the class is not in the knowledge file"));
     };
     let (mut hits, mut looks) = (0, 0);
-    let mut best: Option<Detection> = None;
     let mut belief = prior;
     let accepted = loop {
         match decide(belief, budget - looks, model, costs) {
@@ -121,12 +120,9 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
             Decision::Reject => break false,
             Decision::Look => {
                 looks += 1;
-                let seen = closer.look(cx, body, run, true);
-                belief = model.update(belief, seen.is_some());
-                if let Some(e) = seen {
-                    hits += 1;
-                    keep_best(&mut best, e);
-                }
+                let seen = closer.look(cx, body, run, true).is_some();
+                belief = model.update(belief, seen);
+                hits += usize::from(seen);
             }
         }
     };
@@ -134,7 +130,7 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
     let reason = format!("{hits} of {looks} closer looks detected it; belief {belief:.3}");
     // An object accepted without a closer detection (a prior high enough that misses did not
     // sink it) is reported where it was sighted.
-    let confirmed = accepted.then(|| best.unwrap_or_else(|| d.clone()));
+    let confirmed = accepted.then(|| closer.best().unwrap_or(d).clone());
     Ok(Verdict {
         confirmed,
         belief: Some(belief),
