@@ -88,6 +88,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
     let mut steps = 0;
     // The cones processed, once per look.
     let mut processed: Vec<usize> = Vec::new();
+    let mut hit_cones: BTreeSet<usize> = BTreeSet::new();
     if !set.views.is_empty() {
         // The prior is spread over the points the cones cover: the plan assumes the object
         // is in the location where a search finds it. Over all points, a room whose cones
@@ -183,6 +184,9 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                         Err(_) => None,
                     };
                     let detected = det.is_some();
+                    if detected {
+                        hit_cones.insert(cone);
+                    }
                     if let Some(d) = det {
                         if best[cone]
                             .as_ref()
@@ -255,7 +259,19 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
     });
     if let (None, Some(cone)) = (&outcome, unconfirmed) {
         // A sighting a closer look did not confirm says nothing either way about the rest
-        // of the location: replan without thinning its probability.
+        // of the location: replan without thinning its probability. The cones looked through
+        // in vain before it are remembered as looked at (the next search of the location
+        // weighs their points by their misses); a cone that detected something is not
+        // counted as a miss. Before, none of the session's looks were remembered, and the
+        // next session weighed a cone with an unconfirmed hit like any other (issue 17
+        // session "earlier looks at a spot": success summed over five 200-floor benches
+        // 4.870 → 4.895).
+        let missed: Vec<usize> = processed
+            .iter()
+            .copied()
+            .filter(|c| !hit_cones.contains(c))
+            .collect();
+        record_looks(cx, mem, label, loc, location, &set, &missed);
         return Ok(StepEnd::Replan(ReplanReason::NotConfirmed {
             class: label.to_string(),
             cone,
@@ -469,12 +485,21 @@ mod tests {
     use crate::AgentConfig;
 
     fn search_room(placed: bool) -> (StepEnd, Memory, String) {
+        search_room_with(|robot| {
+            if placed {
+                // On a table's top (the search height of a cereal box), in the far half.
+                robot.place(object("cerealbox", 3.6, 2.8, 0.965));
+            }
+        })
+    }
+
+    /// A search for a cereal box in a 5 × 4 m room, the robot set up by `prepare`.
+    fn search_room_with(
+        prepare: impl FnOnce(&mut avs_robot::ScriptedRobot),
+    ) -> (StepEnd, Memory, String) {
         let (config, k) = (AgentConfig::default(), testing::knowledge());
         let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
-        if placed {
-            // On a table's top (the search height of a cereal box), in the far half.
-            robot.place(object("cerealbox", 3.6, 2.8, 0.965));
-        }
+        prepare(&mut robot);
         let mut mem = testing::memory(&config, &k, &mut robot);
         let room = mem.current_room().expect("a room");
         let mut sink = testing::sink();
@@ -650,5 +675,32 @@ mod tests {
         assert!(after < before, "{before} -> {after}");
         assert!(text.contains("DT session ended: absent"), "{text}");
         assert!(text.contains("! assumption violated"), "{text}");
+    }
+
+    /// A session that ends on a sighting its verification rejects still looked through the
+    /// cones before it in vain: those looks are remembered (the next search weighs those points
+    /// less), the rejected sighting's cone is not counted as a miss, and the room's
+    /// probability is not thinned.
+    #[test]
+    fn a_session_ended_by_a_rejected_sighting_remembers_the_looks_made_in_vain() {
+        let (end, mem, text) = search_room_with(|robot| {
+            for _ in 0..2 {
+                robot.script_view(avs_robot::ActionResult::Ok(vec![]));
+            }
+            for _ in 0..2 {
+                robot.script_view(avs_robot::ActionResult::Ok(vec![object(
+                    "cerealbox",
+                    3.6,
+                    2.8,
+                    0.965,
+                )]));
+            }
+        });
+        let StepEnd::Replan(ReplanReason::NotConfirmed { .. }) = end else {
+            panic!("not ended by a rejected sighting:\n{text}");
+        };
+        let looked = mem.looks.get("cerealbox").map_or(0, |l| l.len());
+        assert!(looked > 0, "no look remembered:\n{text}");
+        assert!(!text.contains("! assumption violated"), "{text}");
     }
 }
