@@ -88,7 +88,8 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
     let mut steps = 0;
     // The cones processed, once per look.
     let mut processed: Vec<usize> = Vec::new();
-    let mut hit_cones: BTreeSet<usize> = BTreeSet::new();
+    // The most confident detection of each cone, if it had one.
+    let mut best: Vec<Option<Detection>> = vec![None; set.views.len()];
     if !set.views.is_empty() {
         // The prior is spread over the points the cones cover: the plan assumes the object
         // is in the location where a search finds it. Over all points, a room whose cones
@@ -143,7 +144,6 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                 return Ok(StepEnd::Replan(ReplanReason::SessionFailed(e.to_string())));
             }
         };
-        let mut best: Vec<Option<Detection>> = vec![None; set.views.len()];
         for _ in 0..t.max_dt_steps {
             let t0 = Instant::now();
             let a = session.next_action();
@@ -184,9 +184,6 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
                         Err(_) => None,
                     };
                     let detected = det.is_some();
-                    if detected {
-                        hit_cones.insert(cone);
-                    }
                     if let Some(d) = det {
                         if best[cone]
                             .as_ref()
@@ -269,7 +266,7 @@ pub(crate) fn dt_search<R: Robot + ?Sized>(
         let missed: Vec<usize> = processed
             .iter()
             .copied()
-            .filter(|c| !hit_cones.contains(c))
+            .filter(|&c| best[c].is_none())
             .collect();
         record_looks(cx, mem, label, loc, location, &set, &missed);
         return Ok(StepEnd::Replan(ReplanReason::NotConfirmed {
@@ -696,11 +693,41 @@ mod tests {
                 )]));
             }
         });
-        let StepEnd::Replan(ReplanReason::NotConfirmed { .. }) = end else {
+        let StepEnd::Replan(ReplanReason::NotConfirmed { cone, .. }) = end else {
             panic!("not ended by a rejected sighting:\n{text}");
         };
-        let looked = mem.looks.get("cerealbox").map_or(0, |l| l.len());
-        assert!(looked > 0, "no look remembered:\n{text}");
+        // The cones processed, from the trace, and the session's cone set (kept for the
+        // next search of the room).
+        let processed: BTreeSet<usize> = text
+            .lines()
+            .filter_map(|l| l.trim().strip_prefix("PROCESSVIEWCONE "))
+            .filter_map(|l| l.split_whitespace().next()?.parse().ok())
+            .collect();
+        let room = mem.current_room().expect("a room");
+        let set = &mem.cones[&("cerealbox".to_string(), ConeLoc::Room(room.0))];
+        let points_of = |c: usize| set.cells[c].iter().map(|&i| set.points[i]);
+        let missed: Vec<usize> = processed.iter().copied().filter(|&c| c != cone).collect();
+        assert!(
+            !missed.is_empty(),
+            "a cone looked through in vain first:\n{text}"
+        );
+        // Every point of the cones looked through in vain holds one look ...
+        for &c in &missed {
+            assert!(
+                points_of(c).all(|p| mem.looks_at("cerealbox", p) == 1),
+                "cone {c}"
+            );
+        }
+        // ... and the points only the detecting cone saw hold none.
+        let only_hit: Vec<[f64; 3]> = points_of(cone)
+            .filter(|p| !missed.iter().any(|&c| points_of(c).any(|q| q == *p)))
+            .collect();
+        assert!(
+            !only_hit.is_empty(),
+            "cone {cone} saw points of its own:\n{text}"
+        );
+        assert!(only_hit.iter().all(|&p| mem.looks_at("cerealbox", p) == 0));
+        // The room's probability was not thinned.
         assert!(!text.contains("! assumption violated"), "{text}");
     }
 }
