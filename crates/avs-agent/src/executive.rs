@@ -14,7 +14,7 @@ use crate::run::{Run, StepEnd};
 use crate::skills::enter::enter;
 use crate::skills::look_around::{look_around, look_around_if_new};
 use crate::skills::session::{dt_search, Search};
-use crate::skills::sighted::verify_sightings;
+use crate::skills::sighted::{verify_sightings, Sighted};
 use crate::skills::views::create_cones;
 use crate::skills::Ctx;
 use crate::strategy::{baseline_loop, cover_all};
@@ -198,8 +198,20 @@ impl Agent {
             }
         };
         let rejected_before = mem.rejected.len();
-        look_around(cx, mem, &mut body, &mut run)?;
-        let sighted = verify_sightings(cx, mem, &mut body, &mut run, &goal.class)?;
+        // What earlier looks saw of the goal's class first, then what the look around sees.
+        let mut sighted =
+            verify_sightings(cx, mem, &mut body, &mut run, &goal.class, Sighted::Before)?;
+        if sighted.is_none() {
+            look_around(cx, mem, &mut body, &mut run, looked_for(cx, &goal))?;
+            sighted = verify_sightings(
+                cx,
+                mem,
+                &mut body,
+                &mut run,
+                &goal.class,
+                Sighted::LookAround,
+            )?;
+        }
         let end = match (sighted, cx.config.strategy) {
             (Some(f), _) => Ok(f),
             (None, Strategy::Planner) => {
@@ -398,7 +410,15 @@ fn main_loop<R: Robot + ?Sized>(
                     continue;
                 }
             }
-            look_around_if_new(cx, mem, body, run);
+            look_around_if_new(cx, mem, body, run, looked_for(cx, goal));
+            // A look around runs the goal's detector too: what it saw is verified now.
+            if let Some(f) = verify_sightings(cx, mem, body, run, &goal.class, Sighted::LookAround)?
+            {
+                run.emit(Event::ActionStarted {
+                    action: format!("REPORTPOSITION {}", f.name),
+                });
+                return Ok(Ok(f));
+            }
             // Monitor the rest of the plan against the world as now known.
             let now = Binding::of(mem, cx.knowledge, &goal.class);
             let f = Probs::new(&now, &mem.wm.concepts, fnr, p_min);
@@ -671,3 +691,9 @@ fn go<R: Robot + ?Sized>(
 
 #[cfg(test)]
 mod tests;
+
+/// The class a look around looks for besides the landmarks: the goal's, unless the
+/// configuration says otherwise ([`AgentConfig::goal_in_look_around`]).
+pub(crate) fn looked_for<'a>(cx: Ctx, goal: &'a Goal) -> Option<&'a str> {
+    cx.config.goal_in_look_around.then_some(goal.class.as_str())
+}

@@ -364,3 +364,44 @@ fn the_wrong_report_price_is_checked_and_asks_for_more_closer_looks_when_dearer(
         assert_eq!(out.status.code(), Some(2), "{bad}");
     }
 }
+
+#[test]
+fn the_goal_in_the_look_around_is_on_by_default_and_can_be_turned_off() {
+    let run = |extra: &[&str]| {
+        let mut args = OFFICE.to_vec();
+        args.extend(["--goal", "cerealbox"]);
+        args.extend(extra);
+        let out = avs(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let s: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON summary");
+        assert_eq!(s["found"], true, "{extra:?}");
+        assert_eq!(s["wrong_report"], false, "{extra:?}");
+        (
+            s["dt_sessions"].as_u64().unwrap(),
+            s["path_length"].as_f64().unwrap(),
+        )
+    };
+    // On the shipped office the look around on entering the kitchen sees the cereal box on
+    // its table: found without a view-cone session. Looking for landmarks only, the planner
+    // searches the table first, as in the paper's run.
+    let (sessions_on, path_on) = run(&[]);
+    let (sessions_off, path_off) = run(&["--goal-in-look-around", "false"]);
+    assert_eq!(sessions_on, 0);
+    assert!(sessions_off >= 1);
+    assert!(path_on < path_off, "{path_on} m with, {path_off} m without");
+    assert_eq!(
+        run(&["--goal-in-look-around"]).0,
+        0,
+        "a bare flag means true"
+    );
+    let mut args = OFFICE.to_vec();
+    args.extend(["--goal", "cerealbox", "--goal-in-look-around", "maybe"]);
+    let out = avs(&args);
+    let err = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(err.contains("--goal-in-look-around"), "stderr: {err}");
+    assert_eq!(out.status.code(), Some(2));
+}

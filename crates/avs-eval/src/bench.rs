@@ -52,6 +52,8 @@ pub struct BenchParams {
     /// What a wrong report costs the verifier, in failed searches
     /// (`AgentConfig::wrong_report_price`).
     pub wrong_report_price: f64,
+    /// Whether a look around also looks for the goal (`AgentConfig::goal_in_look_around`).
+    pub goal_in_look_around: bool,
 }
 
 /// One floor's run.
@@ -168,6 +170,7 @@ pub fn bench(
     };
     config.planner.objective = p.objective;
     config.wrong_report_price = p.wrong_report_price;
+    config.goal_in_look_around = p.goal_in_look_around;
     if p.zoom_pipeline {
         // The pipeline's ranges and rates, measured once on the simulated camera (every
         // generated floor has the default camera).

@@ -331,6 +331,7 @@ pub fn fault_matrix(
         unfound_landmarks: AgentConfig::default().unfound_landmarks,
         objective: AgentConfig::default().planner.objective,
         wrong_report_price: AgentConfig::default().wrong_report_price,
+        goal_in_look_around: AgentConfig::default().goal_in_look_around,
     };
     let floors: Vec<(u64, String, World)> = (0..p.floors as u64)
         .into_par_iter()

@@ -49,6 +49,11 @@ pub struct Scenario {
     /// soon as no plan clears the success threshold).
     #[serde(default = "yes")]
     pub cover_before_giving_up: bool,
+    /// The agent's `goal_in_look_around`; `false` re-enacts the paper's robot, whose object
+    /// detector ran only in the view cones of SEARCHFOROBJECT (`002` §IV), so that the run
+    /// shows the planner's searches rather than a target seen from a door.
+    #[serde(default = "yes")]
+    pub goal_in_look_around: bool,
     /// The properties the run must show.
     pub expect: Expect,
     /// Why the current agent does not show them yet: a failed property then prints a NOTICE
@@ -226,10 +231,10 @@ expect: { found: true }
 ";
 
     #[test]
-    fn a_minimal_scenario_is_valid_and_covers_before_giving_up_by_default() {
+    fn a_minimal_scenario_is_valid_and_runs_the_default_agent() {
         assert!(check("s.yaml", GOOD).is_empty());
         let sc: Scenario = crate::load_yaml_str("s.yaml", GOOD).unwrap();
-        assert!(sc.cover_before_giving_up);
+        assert!(sc.cover_before_giving_up && sc.goal_in_look_around);
         assert_eq!(sc.expect.found, Some(true));
     }
 

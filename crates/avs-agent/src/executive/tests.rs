@@ -37,7 +37,12 @@ fn a_domain_missing_an_operator_the_agent_executes_is_rejected_by_new_naming_it(
 fn an_agent_finds_an_object_in_a_known_room_with_a_scripted_robot() {
     let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
     robot.place(testing::object("cerealbox", 3.6, 2.8, 0.14));
-    let mut agent = default_agent();
+    // The planner's search: the look around looks for landmarks only.
+    let config = AgentConfig {
+        goal_in_look_around: false,
+        ..AgentConfig::default()
+    };
+    let mut agent = Agent::new(testing::domain(), testing::knowledge(), config).unwrap();
     let report = agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
     let text = crate::trace::render_text(&report.trace);
     let f = report.found.unwrap_or_else(|| panic!("{text}"));
@@ -232,16 +237,60 @@ fn a_find_all_goal_verifies_what_earlier_looks_saw_of_its_class_before_it_plans(
         text(mug)
     );
 
-    // The same two goals on their own: the mug's search has to plan a search.
-    let mut robot = world();
-    let mut agent = default_agent();
-    agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
-    let alone = agent.search(&mut robot, Goal::find("mug")).unwrap();
-    assert!(
-        alone.found.is_some() && alone.metrics.dt_sessions > 0,
-        "{}",
-        text(&alone)
-    );
+    // The same two goals on their own: the mug's search has to find it by its own looks
+    // (its look around, which looks for the mug; without that, a planned search).
+    for goal_in_look_around in [true, false] {
+        let config = AgentConfig {
+            goal_in_look_around,
+            ..AgentConfig::default()
+        };
+        let mut robot = world();
+        let mut agent = Agent::new(testing::domain(), testing::knowledge(), config).unwrap();
+        agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
+        let alone = agent.search(&mut robot, Goal::find("mug")).unwrap();
+        let t = text(&alone);
+        assert!(alone.found.is_some(), "{t}");
+        assert!(!t.contains("by earlier looks"), "{t}");
+        assert_eq!(
+            t.contains("sighting(s) of mug in the look around"),
+            goal_in_look_around,
+            "{t}"
+        );
+        assert_eq!(alone.metrics.dt_sessions > 0, !goal_in_look_around, "{t}");
+    }
+}
+
+/// A target in view when the robot looks around is verified and reported then: no plan, no
+/// view-cone session, the path spent on closer looks alone. Without the goal in the look
+/// around the same world takes a planned search.
+#[test]
+fn a_target_in_view_of_the_look_around_is_verified_and_reported_without_a_plan() {
+    for goal_in_look_around in [true, false] {
+        let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
+        robot.place(testing::object("cerealbox", 3.6, 2.8, 0.14));
+        let config = AgentConfig {
+            goal_in_look_around,
+            ..AgentConfig::default()
+        };
+        let mut agent = Agent::new(testing::domain(), testing::knowledge(), config).unwrap();
+        let report = agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
+        let text = crate::trace::render_text(&report.trace);
+        let f = report.found.unwrap_or_else(|| panic!("{text}"));
+        assert!(f.pose.planar_distance(3.6, 2.8) < 1e-9, "{text}");
+        let m = &report.metrics;
+        if goal_in_look_around {
+            assert_eq!((m.plans, m.dt_sessions), (0, 0), "{text}");
+            assert_eq!(m.candidates_accepted, 1, "{text}");
+            assert_eq!(m.path_by_activity.view_cones, 0.0, "{text}");
+            assert!(
+                text.contains("1 sighting(s) of cerealbox in the look around"),
+                "{text}"
+            );
+        } else {
+            assert!(m.plans > 0 && m.dt_sessions > 0, "{text}");
+            assert!(!text.contains("in the look around"), "{text}");
+        }
+    }
 }
 
 #[test]

@@ -6,6 +6,9 @@
 //! planner is asked for a plan; the first one accepted is the goal's object, and a rejected
 //! one is remembered as a look-alike as usual. A search that accepts none goes on as if there
 //! had been none — a sighting says nothing about the rooms not looked at.
+//!
+//! A look around on entering a room runs the goal's detector too ([`super::look_around`]);
+//! what it confirms is kept the same way and verified before the plan goes on.
 
 use super::verify::verify;
 use super::Ctx;
@@ -17,6 +20,15 @@ use crate::AgentError;
 use avs_map::places::dist;
 use avs_robot::Robot;
 
+/// Which looks made the kept sightings, for the trace.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Sighted {
+    /// The looks of earlier searches, before the search plans.
+    Before,
+    /// The look around on entering a room, in the middle of a plan.
+    LookAround,
+}
+
 /// Verify the kept sightings of `class` (nearest first); the first one accepted, filed in
 /// the memory as a found object. The sightings of `class` are used up either way.
 pub(crate) fn verify_sightings<R: Robot + ?Sized>(
@@ -25,16 +37,24 @@ pub(crate) fn verify_sightings<R: Robot + ?Sized>(
     body: &mut Body<R>,
     run: &mut Run,
     class: &str,
+    by: Sighted,
 ) -> Result<Option<FoundObject>, AgentError> {
     let (mut mine, rest): (Vec<_>, Vec<_>) = std::mem::take(&mut mem.sightings)
         .into_iter()
         .partition(|d| d.class == class);
     mem.sightings = rest;
     if !mine.is_empty() {
-        run.observe(format!(
-            "{} sighting(s) of {class} by earlier looks: verifying them before planning",
-            mine.len()
-        ));
+        let n = mine.len();
+        run.observe(match by {
+            Sighted::Before => {
+                format!(
+                    "{n} sighting(s) of {class} by earlier looks: verifying them before planning"
+                )
+            }
+            Sighted::LookAround => {
+                format!("{n} sighting(s) of {class} in the look around: verifying them")
+            }
+        });
     }
     while !mine.is_empty() {
         let here = body.at();

@@ -119,6 +119,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         unfound_landmarks: a.model.unfound_landmarks,
         objective: a.model.objective.into(),
         wrong_report_price: a.model.wrong_report_price,
+        goal_in_look_around: a.model.goal_in_look_around,
     };
     let r = bench(&knowledge, &domain, &params, &tick)?;
     bar.finish();

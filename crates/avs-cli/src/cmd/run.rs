@@ -37,6 +37,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         unfound_landmarks: avs_agent::AgentConfig::default().unfound_landmarks,
         objective: avs_agent::AgentConfig::default().planner.objective,
         wrong_report_price: avs_agent::AgentConfig::default().wrong_report_price,
+        goal_in_look_around: avs_agent::AgentConfig::default().goal_in_look_around,
         faults: Default::default(),
         edits: Default::default(),
         before: &[],

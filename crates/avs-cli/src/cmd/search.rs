@@ -140,6 +140,12 @@ pub struct ModelArgs {
     #[arg(long, value_name = "FAILED_SEARCHES", value_parser = parse_wrong_report_price,
           default_value_t = AgentConfig::default().wrong_report_price)]
     pub wrong_report_price: f64,
+    /// Every look around on entering a room also looks for the goal, and a target seen then
+    /// is verified and reported at once (on by default; `--goal-in-look-around false` looks
+    /// for landmarks only, as the paper's robot did).
+    #[arg(long, value_name = "BOOL", num_args = 0..=1, default_value_t = true,
+          default_missing_value = "true", action = clap::ArgAction::Set)]
+    pub goal_in_look_around: bool,
 }
 
 /// `--wrong-report-price`: a finite number of failed searches, at least 1.
@@ -262,6 +268,8 @@ pub struct Request<'a> {
     pub objective: avs_plan::continual::Objective,
     /// What a wrong report costs the verifier, in failed searches.
     pub wrong_report_price: f64,
+    /// Whether a look around also looks for the goal.
+    pub goal_in_look_around: bool,
     /// Fault injection.
     pub faults: Faults,
     /// World edits before the search.
@@ -363,6 +371,7 @@ pub fn run_search(r: &Request) -> anyhow::Result<Summary> {
         zoom_pipeline: r.zoom_pipeline,
         unfound_landmarks: r.unfound_landmarks,
         wrong_report_price: r.wrong_report_price,
+        goal_in_look_around: r.goal_in_look_around,
         ..AgentConfig::default()
     };
     config.planner.objective = r.objective;
@@ -595,6 +604,7 @@ fn search(a: Args) -> anyhow::Result<bool> {
         unfound_landmarks: a.model.unfound_landmarks,
         objective: a.model.objective.into(),
         wrong_report_price: a.model.wrong_report_price,
+        goal_in_look_around: a.model.goal_in_look_around,
         faults: Faults {
             detector: a.detector.into(),
             failure_rate: a.failure_rate,

@@ -178,6 +178,7 @@ pub fn run_scenario(sc: &Scenario, file: &Path, root: &Path) -> Result<ScenarioR
         .map_err(|e| EvalError::Sim(format!("{f}: simulated robot: {e}")))?;
         let config = AgentConfig {
             cover_before_giving_up: sc.cover_before_giving_up,
+            goal_in_look_around: sc.goal_in_look_around,
             ..AgentConfig::default()
         };
         let mut agent = Agent::new(domain, knowledge, config)?;
