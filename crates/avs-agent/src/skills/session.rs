@@ -406,7 +406,7 @@ pub(crate) fn sensing(cx: Ctx, label: &str) -> (f64, f64) {
 /// search this is `p_d` × the share of the points looked at, the thinning of eq. 1 by the
 /// looked-at cells (`002` §III-A); a second session's look at the same points removes less,
 /// as it should, since they were likely empty already.
-fn record_looks(
+pub(crate) fn record_looks(
     cx: Ctx,
     mem: &mut Memory,
     label: &str,

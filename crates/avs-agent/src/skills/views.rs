@@ -136,6 +136,35 @@ pub(crate) fn plan_cones(
     points: Option<Vec<[f64; 3]>>,
     zooms: &[f64],
 ) -> Option<ConeSet> {
+    plan_cones_from(cx, mem, cam, label, loc, points, zooms, None)
+}
+
+/// [`plan_cones`] from the one standpoint `at`: the unzoomed views a camera turning all
+/// round there needs for the points of `loc` it can see (what a look around from `at` looked
+/// at). `None` for an unknown class.
+pub(crate) fn cones_from(
+    cx: Ctx,
+    mem: &Memory,
+    cam: &Camera,
+    label: &str,
+    loc: ConeLoc,
+    at: [f64; 2],
+) -> Option<ConeSet> {
+    plan_cones_from(cx, mem, cam, label, loc, None, &[1.0], Some(at))
+}
+
+/// [`plan_cones`] from the standpoints of the location, or from `at` alone.
+#[allow(clippy::too_many_arguments)]
+fn plan_cones_from(
+    cx: Ctx,
+    mem: &Memory,
+    cam: &Camera,
+    label: &str,
+    loc: ConeLoc,
+    points: Option<Vec<[f64; 3]>>,
+    zooms: &[f64],
+    at: Option<[f64; 2]>,
+) -> Option<ConeSet> {
     let t = cx.tuning();
     let class = cx.knowledge.class(label)?;
     let grid = &mem.grid;
@@ -166,18 +195,23 @@ pub(crate) fn plan_cones(
         ConeLoc::Room(_) => t.pose_spacing,
         ConeLoc::On(_) | ConeLoc::In(_) => 0.5 * t.pose_spacing,
     };
-    let poses: Vec<[f64; 3]> = mem
-        .with_trav(false, |tr| standable(grid, tr, spacing))
-        .into_iter()
-        .filter(|&[x, y]| match (loc, center) {
-            (ConeLoc::Room(r), _) => in_room(x, y, r),
-            (_, Some(c)) => {
-                dist([x, y], c) <= reach && home.is_none_or(|r| mem.room_at([x, y]) == Some(r))
+    let poses: Vec<[f64; 3]> = match at {
+        Some([x, y]) => vec![[x, y]],
+        None => mem.with_trav(false, |tr| standable(grid, tr, spacing)),
+    }
+    .into_iter()
+    .filter(|&[x, y]| {
+        at.is_some()
+            || match (loc, center) {
+                (ConeLoc::Room(r), _) => in_room(x, y, r),
+                (_, Some(c)) => {
+                    dist([x, y], c) <= reach && home.is_none_or(|r| mem.room_at([x, y]) == Some(r))
+                }
+                _ => false,
             }
-            _ => false,
-        })
-        .map(|[x, y]| [x, y, 0.0])
-        .collect();
+    })
+    .map(|[x, y]| [x, y, 0.0])
+    .collect();
     // A point counts as covered only in the central part of the image: towards the border
     // the detector's confidence falls (partly cut-off objects) below `min_confidence`.
     let camera = CameraModel {
