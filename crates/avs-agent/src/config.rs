@@ -240,10 +240,10 @@ impl Default for AgentConfig {
             max_cones: 24,
             strategy: Strategy::Planner,
             cover_before_giving_up: true,
-            // On 200 generated floors (seed 1) two thirds of a search's path came after the
-            // robot first stood in the target's room; with the goal in the look around the
-            // planner's SPL rose from 0.265 to 0.343 (BENCHMARKS.md, issue 17 session "the
-            // goal in the look around").
+            // On floors 1–40 of the 200-floor bench (seed 1) two thirds of a search's path
+            // came after the robot first stood in the target's room; with the goal in the look
+            // around the planner's SPL rose from 0.265 to 0.343 (BENCHMARKS.md, issue 17
+            // session "the goal in the look around").
             goal_in_look_around: true,
             // Ten failed searches. At 1 (the old default) about one look-alike candidate in
             // 600 was accepted, 1–2 wrong reports per 200 bench floors; at 10 alone real

@@ -5,12 +5,20 @@ use crate::skills::testing;
 
 /// An agent with the default settings over the shipped domain and knowledge.
 fn default_agent() -> Agent {
-    Agent::new(
-        testing::domain(),
-        testing::knowledge(),
-        AgentConfig::default(),
-    )
-    .unwrap()
+    agent_with(AgentConfig::default())
+}
+
+/// An agent with `config` over the shipped domain and knowledge.
+fn agent_with(config: AgentConfig) -> Agent {
+    Agent::new(testing::domain(), testing::knowledge(), config).unwrap()
+}
+
+/// An agent with the default settings but `goal_in_look_around`.
+fn agent_looking_around_for_the_goal(goal_in_look_around: bool) -> Agent {
+    agent_with(AgentConfig {
+        goal_in_look_around,
+        ..AgentConfig::default()
+    })
 }
 
 #[test]
@@ -38,11 +46,7 @@ fn an_agent_finds_an_object_in_a_known_room_with_a_scripted_robot() {
     let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
     robot.place(testing::object("cerealbox", 3.6, 2.8, 0.14));
     // The planner's search: the look around looks for landmarks only.
-    let config = AgentConfig {
-        goal_in_look_around: false,
-        ..AgentConfig::default()
-    };
-    let mut agent = Agent::new(testing::domain(), testing::knowledge(), config).unwrap();
+    let mut agent = agent_looking_around_for_the_goal(false);
     let report = agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
     let text = crate::trace::render_text(&report.trace);
     let f = report.found.unwrap_or_else(|| panic!("{text}"));
@@ -240,12 +244,8 @@ fn a_find_all_goal_verifies_what_earlier_looks_saw_of_its_class_before_it_plans(
     // The same two goals on their own: the mug's search has to find it by its own looks
     // (its look around, which looks for the mug; without that, a planned search).
     for goal_in_look_around in [true, false] {
-        let config = AgentConfig {
-            goal_in_look_around,
-            ..AgentConfig::default()
-        };
         let mut robot = world();
-        let mut agent = Agent::new(testing::domain(), testing::knowledge(), config).unwrap();
+        let mut agent = agent_looking_around_for_the_goal(goal_in_look_around);
         agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
         let alone = agent.search(&mut robot, Goal::find("mug")).unwrap();
         let t = text(&alone);
@@ -268,11 +268,7 @@ fn a_target_in_view_of_the_look_around_is_verified_and_reported_without_a_plan()
     for goal_in_look_around in [true, false] {
         let mut robot = testing::robot(testing::room(5.0, 4.0), [1.0, 1.0]);
         robot.place(testing::object("cerealbox", 3.6, 2.8, 0.14));
-        let config = AgentConfig {
-            goal_in_look_around,
-            ..AgentConfig::default()
-        };
-        let mut agent = Agent::new(testing::domain(), testing::knowledge(), config).unwrap();
+        let mut agent = agent_looking_around_for_the_goal(goal_in_look_around);
         let report = agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
         let text = crate::trace::render_text(&report.trace);
         let f = report.found.unwrap_or_else(|| panic!("{text}"));
