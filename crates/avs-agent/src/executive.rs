@@ -12,7 +12,7 @@ use crate::reason::{GiveUpReason, ReplanReason};
 use crate::report::{Activity, FoundObject, Goal, SearchReport};
 use crate::run::{Run, StepEnd};
 use crate::skills::enter::enter;
-use crate::skills::look_around::{look_around, look_around_if_new};
+use crate::skills::look_around::{look_around, look_around_for_goal, looked_for};
 use crate::skills::session::{dt_search, Search};
 use crate::skills::sighted::{verify_sightings, Sighted};
 use crate::skills::views::create_cones;
@@ -410,10 +410,7 @@ fn main_loop<R: Robot + ?Sized>(
                     continue;
                 }
             }
-            look_around_if_new(cx, mem, body, run, looked_for(cx, goal));
-            // A look around runs the goal's detector too: what it saw is verified now.
-            if let Some(f) = verify_sightings(cx, mem, body, run, &goal.class, Sighted::LookAround)?
-            {
+            if let Some(f) = look_around_for_goal(cx, mem, body, run, goal)? {
                 run.emit(Event::ActionStarted {
                     action: format!("REPORTPOSITION {}", f.name),
                 });
@@ -691,9 +688,3 @@ fn go<R: Robot + ?Sized>(
 
 #[cfg(test)]
 mod tests;
-
-/// The class a look around looks for besides the landmarks: the goal's, unless the
-/// configuration says otherwise ([`AgentConfig::goal_in_look_around`]).
-pub(crate) fn looked_for<'a>(cx: Ctx, goal: &'a Goal) -> Option<&'a str> {
-    cx.config.goal_in_look_around.then_some(goal.class.as_str())
-}

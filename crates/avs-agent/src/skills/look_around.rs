@@ -19,10 +19,12 @@
 //! in the look around").
 
 use super::session::record_looks;
+use super::sighted::{verify_sightings, Sighted};
 use super::views::cones_from;
 use super::Ctx;
 use crate::body::Body;
 use crate::memory::{ConeLoc, Known, Memory};
+use crate::report::{FoundObject, Goal};
 use crate::run::Run;
 use crate::trace::{CategoryBelief, Event, LandmarkCount};
 use crate::AgentError;
@@ -333,6 +335,27 @@ pub(crate) fn look_around_if_new<R: Robot + ?Sized>(
             run.observe(format!("looking around failed: {e}"));
         }
     }
+}
+
+/// The class a look around looks for besides the landmarks: the goal's, unless the
+/// configuration says otherwise ([`crate::AgentConfig::goal_in_look_around`]).
+pub(crate) fn looked_for<'a>(cx: Ctx, goal: &'a Goal) -> Option<&'a str> {
+    cx.config.goal_in_look_around.then_some(goal.class.as_str())
+}
+
+/// Look around in the room the robot is in unless that was done before
+/// ([`look_around_if_new`], for the goal too when the configuration says so, [`looked_for`]),
+/// then verify what it saw of the goal ([`verify_sightings`]): the goal's object, filed in the
+/// memory, when a sighting is accepted.
+pub(crate) fn look_around_for_goal<R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+    goal: &Goal,
+) -> Result<Option<FoundObject>, AgentError> {
+    look_around_if_new(cx, mem, body, run, looked_for(cx, goal));
+    verify_sightings(cx, mem, body, run, &goal.class, Sighted::LookAround)
 }
 
 #[cfg(test)]

@@ -3,13 +3,11 @@
 use crate::binding::{names, Binding};
 use crate::body::Body;
 use crate::config::Strategy;
-use crate::executive::looked_for;
 use crate::memory::{standable, ConeLoc, ConeSet, Memory, Target};
 use crate::reason::GiveUpReason;
 use crate::report::{Activity, FoundObject, Goal};
 use crate::run::Run;
-use crate::skills::look_around::look_around_if_new;
-use crate::skills::sighted::{verify_sightings, Sighted};
+use crate::skills::look_around::look_around_for_goal;
 use crate::skills::verify::verify;
 use crate::skills::views::{plan_cones, room_points, view_text};
 use crate::skills::Ctx;
@@ -104,10 +102,7 @@ pub(crate) fn cover_all<R: Robot + ?Sized>(
                 mem.sync()?;
                 run.finished(action, outcome, body, mem);
                 if look_around {
-                    look_around_if_new(cx, mem, body, run, looked_for(cx, goal));
-                    if let Some(f) =
-                        verify_sightings(cx, mem, body, run, &goal.class, Sighted::LookAround)?
-                    {
+                    if let Some(f) = look_around_for_goal(cx, mem, body, run, goal)? {
                         return Ok(Ok(f));
                     }
                 }
@@ -135,10 +130,7 @@ pub(crate) fn cover_all<R: Robot + ?Sized>(
                 };
                 run.finished(action, outcome, body, mem);
                 if look_around {
-                    look_around_if_new(cx, mem, body, run, looked_for(cx, goal));
-                    if let Some(f) =
-                        verify_sightings(cx, mem, body, run, &goal.class, Sighted::LookAround)?
-                    {
+                    if let Some(f) = look_around_for_goal(cx, mem, body, run, goal)? {
                         return Ok(Ok(f));
                     }
                 }
