@@ -336,18 +336,25 @@ fn unfound_landmarks_and_the_ratio_objective_change_the_first_plan_as_documented
     assert_eq!(out.status.code(), Some(2), "{out:?}");
 }
 
+/// The JSON summary of a cerealbox search of the shipped office with `extra` arguments (the
+/// search must succeed as a command).
+fn cerealbox_summary(extra: &[&str]) -> serde_json::Value {
+    let mut args = OFFICE.to_vec();
+    args.extend(["--goal", "cerealbox"]);
+    args.extend(extra);
+    let out = avs(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("JSON summary")
+}
+
 #[test]
 fn the_wrong_report_price_is_checked_and_asks_for_more_closer_looks_when_dearer() {
     let looks = |price: &str| {
-        let mut args = OFFICE.to_vec();
-        args.extend(["--goal", "cerealbox", "--wrong-report-price", price]);
-        let out = avs(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let s: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON summary");
+        let s = cerealbox_summary(&["--wrong-report-price", price]);
         assert_eq!(s["found"], true, "price {price}");
         s["verification_looks"].as_u64().unwrap()
     };
@@ -368,16 +375,7 @@ fn the_wrong_report_price_is_checked_and_asks_for_more_closer_looks_when_dearer(
 #[test]
 fn the_goal_in_the_look_around_is_on_by_default_and_can_be_turned_off() {
     let run = |extra: &[&str]| {
-        let mut args = OFFICE.to_vec();
-        args.extend(["--goal", "cerealbox"]);
-        args.extend(extra);
-        let out = avs(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let s: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON summary");
+        let s = cerealbox_summary(extra);
         assert_eq!(s["found"], true, "{extra:?}");
         assert_eq!(s["wrong_report"], false, "{extra:?}");
         (
