@@ -195,23 +195,22 @@ fn plan_cones_from(
         ConeLoc::Room(_) => t.pose_spacing,
         ConeLoc::On(_) | ConeLoc::In(_) => 0.5 * t.pose_spacing,
     };
+    // The one standpoint given, or the location's own.
     let poses: Vec<[f64; 3]> = match at {
-        Some([x, y]) => vec![[x, y]],
-        None => mem.with_trav(false, |tr| standable(grid, tr, spacing)),
-    }
-    .into_iter()
-    .filter(|&[x, y]| {
-        at.is_some()
-            || match (loc, center) {
+        Some([x, y]) => vec![[x, y, 0.0]],
+        None => mem
+            .with_trav(false, |tr| standable(grid, tr, spacing))
+            .into_iter()
+            .filter(|&[x, y]| match (loc, center) {
                 (ConeLoc::Room(r), _) => in_room(x, y, r),
                 (_, Some(c)) => {
                     dist([x, y], c) <= reach && home.is_none_or(|r| mem.room_at([x, y]) == Some(r))
                 }
                 _ => false,
-            }
-    })
-    .map(|[x, y]| [x, y, 0.0])
-    .collect();
+            })
+            .map(|[x, y]| [x, y, 0.0])
+            .collect(),
+    };
     // A point counts as covered only in the central part of the image: towards the border
     // the detector's confidence falls (partly cut-off objects) below `min_confidence`.
     let camera = CameraModel {
