@@ -299,6 +299,7 @@ fn main_loop<R: Robot + ?Sized>(
             return last_resort(cx, mem, body, run, goal, r);
         }
         run.beliefs(mem, cx.knowledge, &goal.class);
+        crate::skills::views::price_searches(cx, mem, &body.camera(), &goal.class);
         let binding = Binding::of(mem, cx.knowledge, &goal.class);
         let t0 = Instant::now();
         let decision = {

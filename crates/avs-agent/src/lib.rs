@@ -113,6 +113,30 @@
 //!   with p ≈ 0.5 barely raise the objective when every plan is unlikely, so the optimal search
 //!   expanded every subset of them: on the default office search the hard plans took ~1800
 //!   expansions with them and ~50–100 without, the same plans.
+//! * **Searches are priced by the views they will take** (`skills::views::price_searches`).
+//!   The paper gives SEARCHFOROBJECT a cost but not its value; a flat one (20 for a room, 5
+//!   for a landmark) made a corridor's 24 cones and a kitchenette's 5 the same price, and the
+//!   office table beside the robot a better search per metre than the kitchen down the
+//!   corridor (Fig. 3(b) searched office2 first on all three layouts). Before each plan every
+//!   known room and every known landmark's top is priced, for each class that can lead to the
+//!   goal, by the views the next CREATEVIEWCONES there would plan (for the points not looked
+//!   at yet, as it plans them): `process_cost` per view, in metres at `travel_cost_per_m`,
+//!   plus the walk between their standpoints, nearest next (the domain's `search-cost-in` and
+//!   `search-cost-on`). `p-detect-in` is the detector's hit rate times the share of the
+//!   room's points those views cover (a corridor covered to 86 % by its 24 capped cones is
+//!   searched with 0.86 × 0.8). A room behind a placeholder, not known yet, is priced as the
+//!   views of an empty square room of the knowledge's `placeholder.room_area_m2` (the room a
+//!   placeholder is expected to lead to), and searched with the share of it they cover; a
+//!   known room no view sees yet (a few cells seen through its door) as such a room too; a
+//!   landmark's top no standpoint sees yet keeps the flat 5. (With the share left out for
+//!   rooms not known yet, a whiteboard marker's search on a 30-room floor went from new room
+//!   to new room, each fully credited, searching only their tables, for 1214 m.) A price is computed again only when what it depends on changed: the room's known
+//!   cells, its points looked at for the class, its known landmarks (for a landmark's top,
+//!   those of its room). A search *inside* a landmark keeps the flat 5: its points are a
+//!   square over the landmark's longest side at each level (a found landmark has no
+//!   orientation), half of it in the wall behind a cupboard, and priced by that view plan a
+//!   1.8 m cupboard's interior cost 18–27 m for views covering half of it — more than the
+//!   kitchenette around it. Pricing it waits for landmarks with a footprint.
 //! * **ENTER a placeholder** = drive towards it and stop 1.5 m past the last door hypothesis
 //!   on the way that the robot has never been through (`executive::entry_point`; past a door
 //!   it came through, a corridor's far end would be filed as explored from its first metre);

@@ -72,8 +72,10 @@ const OPERATORS: [(&str, usize); 10] = [
 ];
 
 /// The functions the agent supplies to the planner ([`super::Probs`]), with their arities.
-const FUNCTIONS: [(&str, usize); 8] = [
+const FUNCTIONS: [(&str, usize); 10] = [
     ("distance", 2),
+    ("search-cost-in", 2),
+    ("search-cost-on", 2),
     ("p-leads-to-room", 2),
     ("p-category", 2),
     ("p-object-in", 3),

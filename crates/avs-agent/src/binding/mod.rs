@@ -12,7 +12,7 @@ mod probs;
 pub(crate) use action::{check_domain, Action, ObjArg, PlaceArg};
 pub(crate) use probs::Probs;
 
-use crate::memory::{ConeLoc, Memory, Target};
+use crate::memory::{ConeLoc, Memory, Price, Target};
 use avs_concepts::RoomId;
 use avs_format::knowledge::Knowledge;
 use avs_map::places::dist;
@@ -80,6 +80,11 @@ pub(crate) struct Binding {
     /// (label, room name): rooms where a search for the label made no progress and whose
     /// known map has not grown since; a search there would make none either.
     pub stalled: BTreeSet<(String, String)>,
+    /// (label, room or landmark object name) → what a search there costs, metres
+    /// (`skills::views::search_cost`), where it was priced.
+    pub search_cost: HashMap<(String, String), Price>,
+    /// Label → what a search of a room not known yet costs and the share of it its views see.
+    pub typical_cost: HashMap<String, Price>,
 }
 
 /// The goal's class and, transitively, the landmark classes an object of a relevant class lies
@@ -258,6 +263,20 @@ impl Binding {
                 .init(&format!("located-inside({name}) = none"));
             s.objects.insert(name, k);
         }
+        for ((l, loc), (_, c)) in &mem.search_costs {
+            let name = match *loc {
+                ConeLoc::Room(r) => names::room(RoomId(r)),
+                ConeLoc::On(k) | ConeLoc::In(k) => names::object(k),
+            };
+            if let Some(c) = c {
+                s.search_cost.insert((l.clone(), name), *c);
+            }
+        }
+        for (l, c) in &mem.typical_costs {
+            if let Some(c) = c {
+                s.typical_cost.insert(l.clone(), *c);
+            }
+        }
         for ((l, r), known) in &mem.stalled {
             let name = names::room(RoomId(*r));
             if s.rooms.contains_key(&name) && mem.room_known_cells(*r) <= *known {
@@ -422,6 +441,56 @@ mod tests {
     }
 
     /// The names of the problem's objects of type `t`.
+    /// The domain's search costs and success of a room search come from the prices the
+    /// memory holds: the room's own, a room not known yet's for a hypothesised room, and the
+    /// flat ones where nothing is priced.
+    #[test]
+    fn searches_cost_what_they_were_priced_and_succeed_with_the_share_they_see() {
+        use crate::memory::Price;
+        use crate::skills::testing;
+        use avs_plan::problem::Functions;
+        let (config, k) = (crate::AgentConfig::default(), office());
+        let mut robot = testing::robot(testing::two_rooms(), [2.0, 2.0]);
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let room = mem.current_room().expect("a room");
+        let f = |b: &Binding, name: &str, args: &[&str]| {
+            crate::binding::probs::Probs::new(b, &mem.wm.concepts, 0.2, 0.05)
+                .value(name, args)
+                .expect("the agent supplies it")
+        };
+        let r = names::room(room);
+        let b = Binding::of(&mem, &k, "cerealbox");
+        assert_eq!(f(&b, "search-cost-in", &["cerealbox", &r]), 20.0);
+        assert_eq!(f(&b, "search-cost-on", &["cerealbox", "object0"]), 5.0);
+        assert!((f(&b, "p-detect-in", &["cerealbox", &r]) - 0.8).abs() < 1e-12);
+        let price = Price {
+            metres: 33.0,
+            share: 0.5,
+        };
+        mem.search_costs.insert(
+            ("cerealbox".into(), ConeLoc::Room(room.0)),
+            ((1, 0, 0), Some(price)),
+        );
+        let typical = Price {
+            metres: 17.0,
+            share: 0.75,
+        };
+        mem.typical_costs.insert("cerealbox".into(), Some(typical));
+        let b = Binding::of(&mem, &k, "cerealbox");
+        assert_eq!(f(&b, "search-cost-in", &["cerealbox", &r]), 33.0);
+        assert_eq!(f(&b, "search-cost-in", &["cerealbox", "new-room1"]), 17.0);
+        assert!((f(&b, "p-detect-in", &["cerealbox", &r]) - 0.4).abs() < 1e-12);
+        assert!((f(&b, "p-detect-in", &["cerealbox", "new-room1"]) - 0.6).abs() < 1e-12);
+        // A room no view sees yet is priced as one not known yet.
+        mem.search_costs.insert(
+            ("cerealbox".into(), ConeLoc::Room(room.0)),
+            ((1, 0, 0), None),
+        );
+        let b = Binding::of(&mem, &k, "cerealbox");
+        assert_eq!(f(&b, "search-cost-in", &["cerealbox", &r]), 17.0);
+        assert!((f(&b, "p-detect-in", &["cerealbox", &r]) - 0.6).abs() < 1e-12);
+    }
+
     fn of_type_in(b: &Binding, t: &str) -> BTreeSet<String> {
         b.problem
             .objects

@@ -6,6 +6,12 @@ use avs_format::knowledge::Relation;
 use avs_map::places::dist;
 use avs_plan::problem::Functions;
 
+/// What a room search costs where no price is known, metres (the domain's flat cost before
+/// searches were priced).
+const FLAT_ROOM_SEARCH: f64 = 20.0;
+/// What a search on a landmark's top costs where no price is known, metres.
+const FLAT_LANDMARK_SEARCH: f64 = 5.0;
+
 /// Costs and probabilities of the object-search domain from the conceptual map: the domain's
 /// functions (see `domains/object_search.yaml`) over the binding's names.
 pub(crate) struct Probs<'a> {
@@ -44,6 +50,26 @@ impl Functions for Probs<'_> {
         let p = match (name, args) {
             ("distance", [a, b]) => {
                 return Some(dist(*s.pos.get(*a)?, *s.pos.get(*b)?));
+            }
+            // What the search's views cost where they were priced (`skills::views`); a room
+            // not priced (not known yet, or no view sees it yet) as a room not known yet.
+            ("search-cost-in", [l, r]) => {
+                let key = (l.to_string(), r.to_string());
+                return Some(
+                    s.search_cost
+                        .get(&key)
+                        .map(|c| c.metres)
+                        .or_else(|| s.typical_cost.get(*l).map(|c| c.metres))
+                        .unwrap_or(FLAT_ROOM_SEARCH),
+                );
+            }
+            ("search-cost-on", [l, lm]) => {
+                let key = (l.to_string(), lm.to_string());
+                return Some(
+                    s.search_cost
+                        .get(&key)
+                        .map_or(FLAT_LANDMARK_SEARCH, |c| c.metres),
+                );
             }
             ("p-leads-to-room", [ph, c]) => match s.placeholders.get(*ph)? {
                 PhRef::Current(i) => self.cm.p_category_placeholder(PlaceholderId(*i), c).ok()?,
@@ -86,7 +112,13 @@ impl Functions for Probs<'_> {
             // A search that made no progress here (no cone saw a point of the room) would
             // make none again until the room's known map grows: it cannot succeed.
             ("p-detect-in", [l, r]) if s.stalled.contains(&(l.to_string(), r.to_string())) => 0.0,
-            ("p-detect-in", [_, _]) => self.p_detect,
+            // One pass over the views, which look at the share of the room's points they cover
+            // (a room not priced: as a room not known yet, as its cost).
+            ("p-detect-in", [l, r]) => {
+                let key = (l.to_string(), r.to_string());
+                let priced = s.search_cost.get(&key).or_else(|| s.typical_cost.get(*l));
+                self.p_detect * priced.map_or(1.0, |c| c.share)
+            }
             _ => return None,
         };
         Some(if p == 0.0 {

@@ -91,6 +91,21 @@ pub(crate) struct ConeSet {
     pub covered_share: f64,
 }
 
+/// What a search's price was computed on: for a room its known cells, the points in it looked
+/// at for the class and the known landmarks in it; for a landmark the known cells of the map
+/// and the points looked at for the class anywhere.
+pub(crate) type PriceKey = (usize, usize, usize);
+
+/// What a search of a location costs and how much of it the search looks at
+/// (`skills::views::search_cost`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Price {
+    /// The views' processing and the walk between their standpoints, metres.
+    pub metres: f64,
+    /// The share of the location's points (those not looked at yet, if any) the views cover.
+    pub share: f64,
+}
+
 /// A (from, to) pair of positions.
 pub(crate) type Segment = ([f64; 2], [f64; 2]);
 
@@ -137,6 +152,14 @@ pub(crate) struct Memory {
     /// progress (no view cone saw any of its points). The search is not planned again until
     /// the room's known map grows ([`crate::binding::Binding`]'s `stalled`).
     pub stalled: BTreeMap<(String, u64), usize>,
+    /// (class, location) → what a search there costs, metres (`skills::views::search_cost`;
+    /// `None`: no view would see a point of it), with what it was priced on: the location's
+    /// known cells, the points looked at for the class so far, and the objects known. Priced
+    /// again when one of them changes (`skills::views::price_searches`).
+    pub search_costs: BTreeMap<(String, ConeLoc), (PriceKey, Option<Price>)>,
+    /// Class → what a search of a room not known yet costs and the share of it its views see
+    /// (`skills::views::typical_room_cost`).
+    pub typical_costs: BTreeMap<String, Option<Price>>,
     /// Places that proved unreachable.
     pub blocked: BTreeSet<NodeIndex>,
     /// The placeholders offered to the planner: registry index and what it is.
@@ -275,6 +298,8 @@ impl Memory {
             cones: BTreeMap::new(),
             exhausted: BTreeSet::new(),
             stalled: BTreeMap::new(),
+            search_costs: BTreeMap::new(),
+            typical_costs: BTreeMap::new(),
             blocked: BTreeSet::new(),
             phs: Vec::new(),
             extra_ids: Vec::new(),

@@ -3,10 +3,10 @@
 //! the top of a known landmark.
 
 use super::Ctx;
-use crate::memory::{standable, ConeLoc, ConeSet, Memory};
+use crate::memory::{standable, ConeLoc, ConeSet, Memory, Price, PriceKey};
 use crate::run::Run;
 use avs_concepts::RoomId;
-use avs_format::knowledge::ObjectClass;
+use avs_format::knowledge::{ObjectClass, Relation};
 use avs_map::grid::Cell;
 use avs_map::places::dist;
 use avs_robot::Camera;
@@ -14,7 +14,7 @@ use avs_view::{
     create_view_cones_at_levels, lattice_step, search_heights, sight_clear, CameraModel,
     CoverOptions, DetectionRange, PlannedView, SightLine,
 };
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// CREATEVIEWCONES for `label` at `loc` (unzoomed, as the paper plans them): the cones are
 /// kept in memory for the session that follows. Where earlier searches for `label` looked
@@ -30,6 +30,28 @@ pub(crate) fn create_cones(
     label: &str,
     loc: ConeLoc,
 ) {
+    let Some((set, not_looked)) = next_cones(cx, mem, cam, label, loc) else {
+        return;
+    };
+    run.observe(format!(
+        "{} view cones for {label} cover {:.0}% of {} points{}",
+        set.views.len(),
+        100.0 * set.covered_share,
+        set.n_points,
+        if not_looked { " not looked at yet" } else { "" }
+    ));
+    mem.cones.insert((label.to_string(), loc), set);
+}
+
+/// The cones the next CREATEVIEWCONES for `label` at `loc` plans ([`create_cones`]), and
+/// whether they are planned for the points not looked at yet. `None` for an unknown class.
+fn next_cones(
+    cx: Ctx,
+    mem: &Memory,
+    cam: &Camera,
+    label: &str,
+    loc: ConeLoc,
+) -> Option<(ConeSet, bool)> {
     let fresh: Option<Vec<[f64; 3]>> = match cx.knowledge.class(label) {
         Some(class) if mem.looks.get(label).is_some_and(|l| !l.is_empty()) => {
             let all = location_points(cx, mem, class, loc);
@@ -46,18 +68,202 @@ pub(crate) fn create_cones(
         .and_then(|pts| plan_cones(cx, mem, cam, label, loc, Some(pts), &[1.0]))
         .filter(|s| !s.views.is_empty());
     let not_looked = planned_fresh.is_some();
-    let Some(set) = planned_fresh.or_else(|| plan_cones(cx, mem, cam, label, loc, None, &[1.0]))
-    else {
-        return;
+    let set = planned_fresh.or_else(|| plan_cones(cx, mem, cam, label, loc, None, &[1.0]))?;
+    Some((set, not_looked))
+}
+
+/// Price the searches a plan for `goal` may make ([`search_cost`]), for each class that can
+/// lead to the goal: every known room, and the top of every known landmark the knowledge puts
+/// the class on; again only where what the price was computed on changed ([`PriceKey`]: the
+/// room's known cells, its points looked at for the class, its known landmarks; for a
+/// landmark, those of its room). A room not known yet is priced once per class
+/// ([`typical_room_cost`]). Searches inside a landmark are not priced (the crate docs say
+/// why).
+pub(crate) fn price_searches(cx: Ctx, mem: &mut Memory, cam: &Camera, goal: &str) {
+    let labels = crate::binding::relevant_classes(cx.knowledge, goal);
+    let mut known_cells: BTreeMap<u64, usize> = BTreeMap::new();
+    for r in mem.cell_rooms.iter().flatten() {
+        *known_cells.entry(*r as u64).or_default() += 1;
+    }
+    // A room's points include the tops of its known landmarks (`room_points`), and a
+    // landmark is looked at from its own room: each landmark with its room.
+    let mut tops: BTreeMap<u64, usize> = BTreeMap::new();
+    let mut landmarks: Vec<(usize, Option<u64>)> = Vec::new();
+    for (k, o) in mem.objects.iter().enumerate() {
+        if o.landmark.is_none() {
+            continue;
+        }
+        let r = mem
+            .room_at([o.pos.x, o.pos.y])
+            .or_else(|| mem.room_for(o.place))
+            .map(|r| r.0);
+        if let Some(r) = r {
+            *tops.entry(r).or_default() += 1;
+        }
+        landmarks.push((k, r));
+    }
+    let rooms: Vec<u64> = mem.wm.rooms().map(|(r, _)| r.0).collect();
+    // Only where the knowledge puts the label on the landmark's class.
+    let may_be = |label: &str, class: &str, rel: Relation| {
+        cx.knowledge.landmark_rates.iter().any(|r| {
+            r.object == label
+                && r.landmark == class
+                && r.relation == rel
+                && r.rates.iter().any(|&x| x > 0.0)
+        })
     };
-    run.observe(format!(
-        "{} view cones for {label} cover {:.0}% of {} points{}",
-        set.views.len(),
-        100.0 * set.covered_share,
-        set.n_points,
-        if not_looked { " not looked at yet" } else { "" }
-    ));
-    mem.cones.insert((label.to_string(), loc), set);
+    let res = mem.tuning.cover_key_resolution;
+    for label in &labels {
+        if !mem.typical_costs.contains_key(label) {
+            let c = typical_room_cost(cx, cam, label);
+            mem.typical_costs.insert(label.clone(), c);
+        }
+        // The points looked at for the label, per room.
+        let mut looked: BTreeMap<u64, usize> = BTreeMap::new();
+        for k in mem.looks.get(label).into_iter().flat_map(|l| l.keys()) {
+            if let Some(r) = mem.room_at([k.0 as f64 * res, k.1 as f64 * res]) {
+                *looked.entry(r.0).or_default() += 1;
+            }
+        }
+        let at = |m: &BTreeMap<u64, usize>, r: Option<u64>| {
+            r.and_then(|r| m.get(&r)).copied().unwrap_or(0)
+        };
+        let room_key = |r: Option<u64>| (at(&known_cells, r), at(&looked, r), at(&tops, r));
+        let mut locs: Vec<(ConeLoc, PriceKey)> = rooms
+            .iter()
+            .map(|&r| (ConeLoc::Room(r), room_key(Some(r))))
+            .collect();
+        for &(k, r) in &landmarks {
+            let class = &mem.objects[k].class;
+            if may_be(label, class, Relation::On) {
+                locs.push((ConeLoc::On(k), room_key(r)));
+            }
+        }
+        for (loc, key) in locs {
+            let entry = (label.clone(), loc);
+            if mem.search_costs.get(&entry).is_some_and(|(k, _)| *k == key) {
+                continue;
+            }
+            let c = search_cost(cx, mem, cam, label, loc);
+            tracing::debug!(label = %label, ?loc, ?key, price = ?c, "search priced");
+            mem.search_costs.insert(entry, (key, c));
+        }
+    }
+}
+
+/// What a SEARCHFOROBJECT of `loc` for `label` costs, in metres of travel: the views the
+/// next CREATEVIEWCONES there would plan ([`next_cones`]), each processed at the
+/// configuration's `process_cost` (in metres at `travel_cost_per_m`), and the walk between
+/// their standpoints, nearest next. `None` for an unknown class or when no view sees a point
+/// of the location (the caller then prices it as a room not known yet,
+/// [`typical_room_cost`]).
+pub(crate) fn search_cost(
+    cx: Ctx,
+    mem: &Memory,
+    cam: &Camera,
+    label: &str,
+    loc: ConeLoc,
+) -> Option<Price> {
+    let (set, _) = next_cones(cx, mem, cam, label, loc)?;
+    Some(Price {
+        metres: views_cost(cx, &set.views)?,
+        share: set.covered_share,
+    })
+}
+
+/// The cost, in metres, of processing `views` and walking between their standpoints
+/// (nearest next from the first); `None` for no views.
+fn views_cost(cx: Ctx, views: &[PlannedView]) -> Option<f64> {
+    if views.is_empty() {
+        return None;
+    }
+    let per_view = cx.config.process_cost / cx.config.travel_cost_per_m.max(f64::MIN_POSITIVE);
+    let mut stands: Vec<[f64; 2]> = Vec::new();
+    for v in views {
+        let p = [v.pose[0], v.pose[1]];
+        if !stands.iter().any(|q| dist(*q, p) < 1e-9) {
+            stands.push(p);
+        }
+    }
+    let mut at = stands.swap_remove(0);
+    let mut walk = 0.0;
+    while !stands.is_empty() {
+        let (i, d) = stands
+            .iter()
+            .enumerate()
+            .map(|(i, q)| (i, dist(at, *q)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))?;
+        walk += d;
+        at = stands.swap_remove(i);
+    }
+    Some(views.len() as f64 * per_view + walk)
+}
+
+/// What searching a room not known yet for `label` costs, in metres ([`search_cost`]'s
+/// measure): the views CREATEVIEWCONES plans for an empty square room of the knowledge's
+/// `placeholder.room_area_m2` (the room a placeholder is expected to lead to), with the same
+/// camera, ranges, point and standpoint lattices, and the share of its points they cover.
+/// `None` for an unknown class.
+pub(crate) fn typical_room_cost(cx: Ctx, cam: &Camera, label: &str) -> Option<Price> {
+    let t = cx.tuning();
+    let class = cx.knowledge.class(label)?;
+    let side = cx.knowledge.placeholder.room_area_m2.max(1.0).sqrt();
+    let lattice = |step: f64, inset: f64| -> Vec<f64> {
+        let n = ((side - 2.0 * inset) / step).floor().max(0.0) as usize;
+        (0..=n).map(|i| inset + i as f64 * step).collect()
+    };
+    let heights = search_heights(cx.knowledge, class, false, t.height_step, t.small_object_z);
+    let xs = lattice(t.point_spacing, 0.5 * t.point_spacing);
+    let points: Vec<[f64; 3]> = xs
+        .iter()
+        .flat_map(|&x| xs.iter().map(move |&y| (x, y)))
+        .flat_map(|(x, y)| heights.iter().map(move |&z| [x, y, z]))
+        .collect();
+    let ps = lattice(t.pose_spacing, cx.config.robot_radius);
+    let poses: Vec<[f64; 3]> = ps
+        .iter()
+        .flat_map(|&x| ps.iter().map(move |&y| [x, y, 0.0]))
+        .collect();
+    let levels = range_levels(cx, class, &[1.0], cam.max_zoom);
+    let costs = CoverOptions {
+        point_radius: 0.0,
+        per_view: cx.config.process_cost.max(f64::MIN_POSITIVE),
+        per_metre: cx.config.travel_cost_per_m,
+        from: None,
+    };
+    let plan = create_view_cones_at_levels(
+        &points,
+        &poses,
+        &cover_camera(cx, cam),
+        &levels,
+        costs,
+        |_, _| true,
+    )
+    .ok()?;
+    let mut views = plan.views;
+    views.truncate(cx.config.max_cones);
+    let covered: BTreeSet<usize> = views
+        .iter()
+        .flat_map(|v| v.covered.iter().copied())
+        .collect();
+    Some(Price {
+        metres: views_cost(cx, &views)?,
+        share: covered.len() as f64 / points.len().max(1) as f64,
+    })
+}
+
+/// The camera of view planning: a point counts as covered only in the central part of the
+/// image (`tuning.cover_fov_share`); towards the border the detector's confidence falls
+/// (partly cut-off objects) below `min_confidence`.
+fn cover_camera(cx: Ctx, cam: &Camera) -> CameraModel {
+    let t = cx.tuning();
+    CameraModel {
+        hfov: t.cover_fov_share * cam.hfov,
+        vfov: t.cover_fov_share * cam.vfov,
+        pan_limits: cam.pan_limits,
+        tilt_limits: cam.tilt_limits,
+        height: cam.height,
+    }
 }
 
 /// The points of location `loc` where an object of `class` may be: a room's known cells at
@@ -211,15 +417,7 @@ fn plan_cones_from(
             .map(|[x, y]| [x, y, 0.0])
             .collect(),
     };
-    // A point counts as covered only in the central part of the image: towards the border
-    // the detector's confidence falls (partly cut-off objects) below `min_confidence`.
-    let camera = CameraModel {
-        hfov: t.cover_fov_share * cam.hfov,
-        vfov: t.cover_fov_share * cam.vfov,
-        pan_limits: cam.pan_limits,
-        tilt_limits: cam.tilt_limits,
-        height: cam.height,
-    };
+    let camera = cover_camera(cx, cam);
     // The grid holds furniture footprints: stop the sight line short of the target point,
     // or where it reaches the top the point rests on.
     let surfaces = mem.surfaces(cx.knowledge);
@@ -431,6 +629,8 @@ mod planning_tests {
     use crate::skills::testing;
     use crate::trace::Event;
     use crate::AgentConfig;
+    use avs_format::knowledge::Knowledge;
+    use avs_map::grid::OccupancyGrid;
 
     #[test]
     fn cones_planned_for_a_room_stand_in_it_and_are_kept_for_the_session() {
@@ -467,6 +667,127 @@ mod planning_tests {
             matches!(e, Event::Observed { what } if what.starts_with(&format!("{} view cones for cerealbox", set.views.len())))
         });
         assert!(said, "{:?}", run.events);
+    }
+
+    /// The price of a search of the room the robot stands in, for `class`.
+    fn price_in(grid: OccupancyGrid, class: &str) -> (Price, usize) {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        let mut robot = testing::robot(grid, [1.0, 2.0]);
+        let mem = testing::memory(&config, &k, &mut robot);
+        let room = ConeLoc::Room(mem.current_room().expect("a room").0);
+        let cx = testing::ctx(&k, &config);
+        let cam = avs_robot::Robot::camera(&robot);
+        let price = search_cost(cx, &mem, &cam, class, room).expect("views see the room");
+        let (set, _) = next_cones(cx, &mem, &cam, class, room).expect("a known class");
+        (price, set.views.len())
+    }
+
+    #[test]
+    fn a_search_is_priced_by_the_views_it_will_take_and_the_walk_between_them() {
+        let config = AgentConfig::default();
+        let per_view = config.process_cost / config.travel_cost_per_m;
+        let (small, n_small) = price_in(testing::room(4.0, 4.0), "cerealbox");
+        let (large, n_large) = price_in(testing::room(12.0, 4.0), "cerealbox");
+        // Each view is processed once, and the views of a 12 m room stand on more than one spot.
+        assert!(
+            small.metres >= n_small as f64 * per_view - 1e-9,
+            "{small:?}"
+        );
+        assert!(
+            large.metres > n_large as f64 * per_view,
+            "{large:?} {n_large}"
+        );
+        assert!(n_large > n_small, "{n_large} views vs {n_small}");
+        assert!(large.metres > small.metres, "{large:?} vs {small:?}");
+        for p in [small, large] {
+            assert!(p.share > 0.5 && p.share <= 1.0, "{p:?}");
+        }
+        // A marker is seen from less than half the cereal box's distance: more views.
+        let (marker, _) = price_in(testing::room(4.0, 4.0), "whiteboardmarker");
+        assert!(marker.metres > small.metres, "{marker:?} vs {small:?}");
+    }
+
+    #[test]
+    fn a_room_searched_in_part_is_priced_for_the_points_not_looked_at_yet() {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        let mut robot = testing::robot(testing::room(12.0, 4.0), [1.0, 2.0]);
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let room = ConeLoc::Room(mem.current_room().expect("a room").0);
+        let cx = testing::ctx(&k, &config);
+        let cam = avs_robot::Robot::camera(&robot);
+        let before = search_cost(cx, &mem, &cam, "cerealbox", room).expect("priced");
+        // The western two thirds looked at once.
+        let class = k.class("cerealbox").unwrap();
+        let looked: BTreeMap<_, _> = location_points(cx, &mem, class, room)
+            .into_iter()
+            .filter(|p| p[0] < 8.0)
+            .map(|p| (mem.point_key(p), 1))
+            .collect();
+        mem.looks.insert("cerealbox".into(), looked);
+        let after = search_cost(cx, &mem, &cam, "cerealbox", room).expect("priced");
+        assert!(after.metres < before.metres, "{after:?} vs {before:?}");
+    }
+
+    #[test]
+    fn a_room_not_known_yet_is_priced_as_an_empty_room_of_the_knowledges_size() {
+        let config = AgentConfig::default();
+        let mut k = testing::knowledge();
+        let robot = testing::robot(testing::room(4.0, 4.0), [1.0, 2.0]);
+        let cam = avs_robot::Robot::camera(&robot);
+        let typical = |k: &Knowledge, class: &str| {
+            typical_room_cost(testing::ctx(k, &config), &cam, class)
+                .expect("priced")
+                .metres
+        };
+        let small = typical(&k, "cerealbox");
+        assert!(small > 0.0);
+        assert!(typical(&k, "whiteboardmarker") > small);
+        k.placeholder.room_area_m2 *= 4.0;
+        assert!(typical(&k, "cerealbox") > small);
+        // About what the same room costs when known: an empty 4 m × 3 m room (12 m²).
+        let (known, _) = price_in(testing::room(4.0, 3.0), "cerealbox");
+        assert!(
+            (known.metres - small).abs() <= 0.5 * known.metres,
+            "{known:?} vs {small}"
+        );
+    }
+
+    #[test]
+    fn a_price_is_computed_again_only_when_what_it_depends_on_changes() {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        let mut robot = testing::robot(testing::room(8.0, 4.0), [1.0, 2.0]);
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        let room = ConeLoc::Room(mem.current_room().expect("a room").0);
+        let cx = testing::ctx(&k, &config);
+        let cam = avs_robot::Robot::camera(&robot);
+        price_searches(cx, &mut mem, &cam, "cerealbox");
+        let entry = ("cerealbox".to_string(), room);
+        let priced = mem.search_costs[&entry].1.expect("the room is seen");
+        assert!(mem.typical_costs["cerealbox"].is_some());
+        // The landmark classes a cereal box lies on or in are priced too.
+        assert!(mem.search_costs.contains_key(&("table".to_string(), room)));
+        // A stand-in price survives a pricing with nothing changed...
+        let stand_in = Price {
+            metres: -1.0,
+            share: 0.0,
+        };
+        mem.search_costs.get_mut(&entry).unwrap().1 = Some(stand_in);
+        price_searches(cx, &mut mem, &cam, "cerealbox");
+        assert_eq!(mem.search_costs[&entry].1, Some(stand_in));
+        // ...and not one after a look at the room's points.
+        let class = k.class("cerealbox").unwrap();
+        let p = location_points(cx, &mem, class, room)[0];
+        let key = mem.point_key(p);
+        mem.looks
+            .entry("cerealbox".into())
+            .or_default()
+            .insert(key, 1);
+        price_searches(cx, &mut mem, &cam, "cerealbox");
+        let again = mem.search_costs[&entry].1.expect("priced again");
+        assert!(
+            again.metres > 0.0 && again.metres <= priced.metres + 1e-9,
+            "{again:?}"
+        );
     }
 
     /// A 5 m × 4 m room with a table whose edge the laser saw and whose top it could not
