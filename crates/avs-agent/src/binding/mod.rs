@@ -266,7 +266,9 @@ impl Binding {
         for ((l, loc), (_, c)) in &mem.search_costs {
             let name = match *loc {
                 ConeLoc::Room(r) => names::room(RoomId(r)),
-                ConeLoc::On(k) | ConeLoc::In(k) => names::object(k),
+                ConeLoc::On(k) => names::object(k),
+                // A search inside a landmark is not priced (the crate docs say why).
+                ConeLoc::In(_) => continue,
             };
             if let Some(c) = c {
                 s.search_cost.insert((l.clone(), name), *c);

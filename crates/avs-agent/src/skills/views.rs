@@ -104,11 +104,11 @@ pub(crate) fn price_searches(cx: Ctx, mem: &mut Memory, cam: &Camera, goal: &str
     }
     let rooms: Vec<u64> = mem.wm.rooms().map(|(r, _)| r.0).collect();
     // Only where the knowledge puts the label on the landmark's class.
-    let may_be = |label: &str, class: &str, rel: Relation| {
+    let lies_on = |label: &str, class: &str| {
         cx.knowledge.landmark_rates.iter().any(|r| {
             r.object == label
                 && r.landmark == class
-                && r.relation == rel
+                && r.relation == Relation::On
                 && r.rates.iter().any(|&x| x > 0.0)
         })
     };
@@ -135,7 +135,7 @@ pub(crate) fn price_searches(cx: Ctx, mem: &mut Memory, cam: &Camera, goal: &str
             .collect();
         for &(k, r) in &landmarks {
             let class = &mem.objects[k].class;
-            if may_be(label, class, Relation::On) {
+            if lies_on(label, class) {
                 locs.push((ConeLoc::On(k), room_key(r)));
             }
         }

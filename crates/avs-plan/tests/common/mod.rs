@@ -151,6 +151,9 @@ pub fn stand_in(name: &str, args: &[&str], xy: &HashMap<String, (f64, f64)>) -> 
             _ => 0.0,
         },
         ("p-detect", [_]) | ("p-detect-in", [_, _]) => 0.8,
+        // The flat search costs the domain had before the agent priced searches by their views.
+        ("search-cost-in", [_, _]) => 20.0,
+        ("search-cost-on", [_, _]) => 5.0,
         _ => return None,
     })
 }
