@@ -126,7 +126,8 @@
 //!   room's points those views cover (a corridor covered to 86 % by its 24 capped cones is
 //!   searched with 0.86 × 0.8). A room behind a placeholder, not known yet, is priced as the
 //!   views of an empty square room of the knowledge's `placeholder.room_area_m2` (the room a
-//!   placeholder is expected to lead to), and searched with the share of it they cover; a
+//!   placeholder is expected to lead to; planned over at most 100 m², a larger one seeing a
+//!   share smaller by the areas), and searched with the share of it they cover; a
 //!   known room no view sees yet (a few cells seen through its door) as such a room too; a
 //!   landmark's top no standpoint sees yet keeps the flat 5. (With the share left out for
 //!   rooms not known yet, a whiteboard marker's search on a 30-room floor went from new room

@@ -92,8 +92,8 @@ pub(crate) struct ConeSet {
 }
 
 /// What a search's price was computed on: for a room its known cells, the points in it looked
-/// at for the class and the known landmarks in it; for a landmark the known cells of the map
-/// and the points looked at for the class anywhere.
+/// at for the class and the known landmarks in it; for a landmark's top the same of its room
+/// (it is looked at from there).
 pub(crate) type PriceKey = (usize, usize, usize);
 
 /// What a search of a location costs and how much of it the search looks at
@@ -152,10 +152,10 @@ pub(crate) struct Memory {
     /// progress (no view cone saw any of its points). The search is not planned again until
     /// the room's known map grows ([`crate::binding::Binding`]'s `stalled`).
     pub stalled: BTreeMap<(String, u64), usize>,
-    /// (class, location) → what a search there costs, metres (`skills::views::search_cost`;
-    /// `None`: no view would see a point of it), with what it was priced on: the location's
-    /// known cells, the points looked at for the class so far, and the objects known. Priced
-    /// again when one of them changes (`skills::views::price_searches`).
+    /// (class, location) → what a search there costs and the share of it its views see
+    /// (`skills::views::search_cost`; `None`: no view would see a point of it), with what it
+    /// was priced on ([`PriceKey`]). Priced again when that changes
+    /// (`skills::views::price_searches`).
     pub search_costs: BTreeMap<(String, ConeLoc), (PriceKey, Option<Price>)>,
     /// Class → what a search of a room not known yet costs and the share of it its views see
     /// (`skills::views::typical_room_cost`).

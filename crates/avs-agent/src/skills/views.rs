@@ -207,7 +207,11 @@ fn views_cost(cx: Ctx, views: &[PlannedView]) -> Option<f64> {
 pub(crate) fn typical_room_cost(cx: Ctx, cam: &Camera, label: &str) -> Option<Price> {
     let t = cx.tuning();
     let class = cx.knowledge.class(label)?;
-    let side = cx.knowledge.placeholder.room_area_m2.max(1.0).sqrt();
+    // Planned over at most `TYPICAL_ROOM_MAX_M2` (bounded work for any knowledge file); a
+    // larger room's capped views cost about the same and see a share smaller by the areas.
+    let area = cx.knowledge.placeholder.room_area_m2.max(1.0);
+    let planned = area.min(TYPICAL_ROOM_MAX_M2);
+    let side = planned.sqrt();
     let lattice = |step: f64, inset: f64| -> Vec<f64> {
         let n = ((side - 2.0 * inset) / step).floor().max(0.0) as usize;
         (0..=n).map(|i| inset + i as f64 * step).collect()
@@ -248,9 +252,13 @@ pub(crate) fn typical_room_cost(cx: Ctx, cam: &Camera, label: &str) -> Option<Pr
         .collect();
     Some(Price {
         metres: views_cost(cx, &views)?,
-        share: covered.len() as f64 / points.len().max(1) as f64,
+        share: covered.len() as f64 / points.len().max(1) as f64 * planned / area,
     })
 }
+
+/// The largest room [`typical_room_cost`] plans views for, m²: 24 views of a cereal box cover
+/// about 100 m², and a knowledge file may say any area.
+const TYPICAL_ROOM_MAX_M2: f64 = 100.0;
 
 /// The camera of view planning: a point counts as covered only in the central part of the
 /// image (`tuning.cover_fov_share`); towards the border the detector's confidence falls
@@ -744,6 +752,12 @@ mod planning_tests {
         assert!(typical(&k, "whiteboardmarker") > small);
         k.placeholder.room_area_m2 *= 4.0;
         assert!(typical(&k, "cerealbox") > small);
+        // Any area a knowledge file may give is priced in bounded work: a hall's capped views
+        // see a small share of it.
+        k.placeholder.room_area_m2 = 1e9;
+        let c = testing::ctx(&k, &config);
+        let hall = typical_room_cost(c, &cam, "cerealbox").expect("priced");
+        assert!(hall.metres.is_finite() && hall.share < 1e-6, "{hall:?}");
         // About what the same room costs when known: an empty 4 m × 3 m room (12 m²).
         let (known, _) = price_in(testing::room(4.0, 3.0), "cerealbox");
         assert!(
