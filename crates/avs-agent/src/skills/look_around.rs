@@ -367,8 +367,11 @@ mod tests {
 
     /// A look around from (1.5, 2.0) in a room with a table at (3.5, 2.0), a cereal box on it
     /// when `with_box`, looking for `goal` besides the landmarks: the memory after it, the
-    /// robot (for its calls) and the trace's text.
-    fn looked_around(goal: Option<&str>, with_box: bool) -> (Memory, ScriptedRobot, String) {
+    /// robot (for its calls), the trace's text and its events.
+    fn looked_around(
+        goal: Option<&str>,
+        with_box: bool,
+    ) -> (Memory, ScriptedRobot, String, Vec<Event>) {
         let (config, k) = (AgentConfig::default(), testing::knowledge());
         let mut robot = testing::robot(room_with_a_table(), [1.5, 2.0]);
         robot.place(object("table", 3.5, 2.0, 0.75));
@@ -381,7 +384,7 @@ mod tests {
         let cx = testing::ctx(&k, &config);
         look_around(cx, &mut mem, &mut Body::new(&mut robot), &mut run, goal).unwrap();
         let text = testing::text(&run);
-        (mem, robot, text)
+        (mem, robot, text, std::mem::take(&mut run.events))
     }
 
     /// With the goal's class, the look around keeps a confirmed sighting of it for the
@@ -390,7 +393,7 @@ mod tests {
     #[test]
     fn a_look_around_with_the_goal_keeps_its_sighting_and_counts_only_landmarks() {
         for goal in [Some("cerealbox"), None] {
-            let (mem, robot, text) = looked_around(goal, true);
+            let (mem, robot, text, _) = looked_around(goal, true);
             assert_eq!(mem.objects.len(), 1, "{:?}", mem.objects);
             assert_eq!(mem.objects[0].class, "table");
             let kept: Vec<_> = mem.sightings.iter().map(|d| d.class.as_str()).collect();
@@ -425,14 +428,14 @@ mod tests {
                 .unwrap()
         };
         // The room's rate after a look around for landmarks only: the counted table raises it.
-        let (landmarks_only, _, _) = looked_around(None, false);
+        let (landmarks_only, _, _, _) = looked_around(None, false);
         let unthinned = p(&landmarks_only);
         for (goal, in_view, thinned) in [
             (Some("cerealbox"), false, true),
             (Some("cerealbox"), true, false),
             (None, false, false),
         ] {
-            let (mem, _, text) = looked_around(goal, in_view);
+            let (mem, _, text, _) = looked_around(goal, in_view);
             let looked = mem.looks.get("cerealbox").map_or(0, |l| l.len());
             let said = text.contains("the look around saw no cerealbox");
             if thinned {
@@ -452,25 +455,15 @@ mod tests {
     #[test]
     fn a_table_seen_in_overlapping_views_becomes_a_landmark_of_the_room() {
         let (config, k) = (AgentConfig::default(), testing::knowledge());
-        let mut robot = testing::robot(room_with_a_table(), [1.5, 2.0]);
-        robot.place(object("table", 3.5, 2.0, 0.75));
-        let mut mem = testing::memory(&config, &k, &mut robot);
-        let mut sink = testing::sink();
-        let mut run = testing::run(&mut sink);
-        let cx = testing::ctx(&k, &config);
-        look_around(cx, &mut mem, &mut Body::new(&mut robot), &mut run, None).unwrap();
+        let (mem, robot, text, events) = looked_around(None, false);
         let room = mem.current_room().expect("the robot stands in a room");
         assert!(mem.looked.contains(&room.0));
         assert_eq!(mem.objects.len(), 1, "{:?}", mem.objects);
         assert_eq!(mem.objects[0].class, "table");
         assert!(mem.objects[0].landmark.is_some());
-        assert!(
-            testing::text(&run).contains("table x1"),
-            "{}",
-            testing::text(&run)
-        );
+        assert!(text.contains("table x1"), "{text}");
         // The JSON event carries the same as numbers: the room, the counts, the categories.
-        let looked = run.events.iter().find_map(|e| match e {
+        let looked = events.iter().find_map(|e| match e {
             Event::LookedAround {
                 room: r,
                 landmarks,

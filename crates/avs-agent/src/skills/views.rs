@@ -229,31 +229,42 @@ pub(crate) fn typical_room_cost(cx: Ctx, cam: &Camera, label: &str) -> Option<Pr
         .flat_map(|&x| ps.iter().map(move |&y| [x, y, 0.0]))
         .collect();
     let levels = range_levels(cx, class, &[1.0], cam.max_zoom);
-    let costs = CoverOptions {
-        point_radius: 0.0,
-        per_view: cx.config.process_cost.max(f64::MIN_POSITIVE),
-        per_metre: cx.config.travel_cost_per_m,
-        from: None,
-    };
     let plan = create_view_cones_at_levels(
         &points,
         &poses,
         &cover_camera(cx, cam),
         &levels,
-        costs,
+        cover_costs(cx, None),
         |_, _| true,
     )
     .ok()?;
     let mut views = plan.views;
     views.truncate(cx.config.max_cones);
+    Some(Price {
+        metres: views_cost(cx, &views)?,
+        share: covered_share(&views, points.len()) * planned / area,
+    })
+}
+
+/// What the weighted greedy of view planning counts against a view: processing it, and the
+/// walk to a new standpoint (from `from`, the robot, for the first; `None`: the first is
+/// free). Points count bare (`point_radius` 0), as the paper's do; see [`plan_cones`].
+fn cover_costs(cx: Ctx, from: Option<[f64; 2]>) -> CoverOptions {
+    CoverOptions {
+        point_radius: 0.0,
+        per_view: cx.config.process_cost.max(f64::MIN_POSITIVE),
+        per_metre: cx.config.travel_cost_per_m,
+        from,
+    }
+}
+
+/// The share of `n_points` points that at least one of `views` covers.
+fn covered_share(views: &[PlannedView], n_points: usize) -> f64 {
     let covered: BTreeSet<usize> = views
         .iter()
         .flat_map(|v| v.covered.iter().copied())
         .collect();
-    Some(Price {
-        metres: views_cost(cx, &views)?,
-        share: covered.len() as f64 / points.len().max(1) as f64 * planned / area,
-    })
+    covered.len() as f64 / n_points.max(1) as f64
 }
 
 /// The largest room [`typical_room_cost`] plans views for, m²: 24 views of a cereal box cover
@@ -450,24 +461,14 @@ fn plan_cones_from(
         // the image border at close range, but it leaves a zoomed view (a narrow field at
         // short range) almost no cell to cover: the coverage before giving up then looked
         // through one or two points per cone until it ran out of actions (BENCHMARKS.md).
-        let costs = CoverOptions {
-            point_radius: 0.0,
-            per_view: cx.config.process_cost.max(f64::MIN_POSITIVE),
-            per_metre: cx.config.travel_cost_per_m,
-            from: Some(mem.at),
-        };
+        let costs = cover_costs(cx, Some(mem.at));
         create_view_cones_at_levels(&points, &poses, &camera, &levels, costs, los).ok()
     };
     Some(match planned {
         Some(mut p) => {
             p.views.truncate(cx.config.max_cones);
             let n_points = points.len();
-            let covered: BTreeSet<usize> = p
-                .views
-                .iter()
-                .flat_map(|v| v.covered.iter().copied())
-                .collect();
-            let share = covered.len() as f64 / n_points.max(1) as f64;
+            let share = covered_share(&p.views, n_points);
             ConeSet {
                 cells: p.cone_cells(),
                 views: p.views,
@@ -677,16 +678,37 @@ mod planning_tests {
         assert!(said, "{:?}", run.events);
     }
 
-    /// The price of a search of the room the robot stands in, for `class`.
-    fn price_in(grid: OccupancyGrid, class: &str) -> (Price, usize) {
+    /// A robot at (1, 2) in `grid` with the default settings, its memory after the first
+    /// survey, and the room it stands in.
+    struct InRoom {
+        config: AgentConfig,
+        k: Knowledge,
+        mem: Memory,
+        cam: Camera,
+        room: ConeLoc,
+    }
+
+    fn in_room(grid: OccupancyGrid) -> InRoom {
         let (config, k) = (AgentConfig::default(), testing::knowledge());
         let mut robot = testing::robot(grid, [1.0, 2.0]);
         let mem = testing::memory(&config, &k, &mut robot);
         let room = ConeLoc::Room(mem.current_room().expect("a room").0);
-        let cx = testing::ctx(&k, &config);
         let cam = avs_robot::Robot::camera(&robot);
-        let price = search_cost(cx, &mem, &cam, class, room).expect("views see the room");
-        let (set, _) = next_cones(cx, &mem, &cam, class, room).expect("a known class");
+        InRoom {
+            config,
+            k,
+            mem,
+            cam,
+            room,
+        }
+    }
+
+    /// The price of a search of the room the robot stands in, for `class`.
+    fn price_in(grid: OccupancyGrid, class: &str) -> (Price, usize) {
+        let r = in_room(grid);
+        let cx = testing::ctx(&r.k, &r.config);
+        let price = search_cost(cx, &r.mem, &r.cam, class, r.room).expect("views see the room");
+        let (set, _) = next_cones(cx, &r.mem, &r.cam, class, r.room).expect("a known class");
         (price, set.views.len())
     }
 
@@ -717,12 +739,14 @@ mod planning_tests {
 
     #[test]
     fn a_room_searched_in_part_is_priced_for_the_points_not_looked_at_yet() {
-        let (config, k) = (AgentConfig::default(), testing::knowledge());
-        let mut robot = testing::robot(testing::room(12.0, 4.0), [1.0, 2.0]);
-        let mut mem = testing::memory(&config, &k, &mut robot);
-        let room = ConeLoc::Room(mem.current_room().expect("a room").0);
+        let InRoom {
+            config,
+            k,
+            mut mem,
+            cam,
+            room,
+        } = in_room(testing::room(12.0, 4.0));
         let cx = testing::ctx(&k, &config);
-        let cam = avs_robot::Robot::camera(&robot);
         let before = search_cost(cx, &mem, &cam, "cerealbox", room).expect("priced");
         // The western two thirds looked at once.
         let class = k.class("cerealbox").unwrap();
@@ -768,12 +792,14 @@ mod planning_tests {
 
     #[test]
     fn a_price_is_computed_again_only_when_what_it_depends_on_changes() {
-        let (config, k) = (AgentConfig::default(), testing::knowledge());
-        let mut robot = testing::robot(testing::room(8.0, 4.0), [1.0, 2.0]);
-        let mut mem = testing::memory(&config, &k, &mut robot);
-        let room = ConeLoc::Room(mem.current_room().expect("a room").0);
+        let InRoom {
+            config,
+            k,
+            mut mem,
+            cam,
+            room,
+        } = in_room(testing::room(8.0, 4.0));
         let cx = testing::ctx(&k, &config);
-        let cam = avs_robot::Robot::camera(&robot);
         price_searches(cx, &mut mem, &cam, "cerealbox");
         let entry = ("cerealbox".to_string(), room);
         let priced = mem.search_costs[&entry].1.expect("the room is seen");
