@@ -78,7 +78,13 @@ pub struct AgentConfig {
     /// strategy does (module `strategy`); give up only when nothing is left. The
     /// probabilities then only order the search: knowledge that puts the target in the wrong
     /// room costs path, not the target. `false` gives up at once, as the paper's planner does
-    /// (`002` §III).
+    /// (`002` §III), and then also when no plan is worth its cost by the paper's own objective
+    /// (`planner.give_up_unless_worth_it` is turned on: the best plan for cost(π) + R·(1 − p(π))
+    /// has p(π)·R ≤ cost(π), so stopping, whose objective is R, is no worse). That test compares
+    /// a plan with stopping, and stopping is the alternative only when giving up ends the
+    /// search: with coverage after it the alternative is the coverage, which on bench floors
+    /// finds less per metre than the planner's own improbable plans (BENCHMARKS.md, issue 17
+    /// session "a plan worth its cost").
     pub cover_before_giving_up: bool,
     /// Every look around on entering a room also runs the detector of the class searched for
     /// (`skills::look_around`): a target in view of the room's door is verified and reported

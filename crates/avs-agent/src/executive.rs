@@ -64,13 +64,17 @@ impl Agent {
                 crate::skills::verify::check_verifier(&knowledge, &c.name, v)?;
             }
         }
+        // A search that ends when the planner gives up stops once no plan is worth its cost
+        // (`AgentConfig::cover_before_giving_up`).
+        let mut planner_options = config.planner;
+        planner_options.give_up_unless_worth_it |= !config.cover_before_giving_up;
         Ok(Self {
             fallback: ContinualPlanner::new(domain.clone(), {
-                let mut o = config.planner;
+                let mut o = planner_options;
                 o.search.mode = avs_plan::Mode::Fast;
                 o
             }),
-            planner: ContinualPlanner::new(domain, config.planner),
+            planner: ContinualPlanner::new(domain, planner_options),
             knowledge,
             config,
             memory: None,

@@ -6,7 +6,7 @@ use crate::ground::ground;
 use crate::lifted::{step_value, LiftedState};
 use crate::problem::{Functions, Instance, Problem};
 use crate::search::{search, search_best_ratio, SearchOptions};
-use crate::task::{validate_sas, SearchStats, Task};
+use crate::task::{validate_sas, Plan, SearchStats, Task};
 use crate::PlanError;
 use std::collections::HashMap;
 use std::fmt;
@@ -19,6 +19,12 @@ pub struct ContinualOptions {
     pub search: SearchOptions,
     /// Give up when no plan reaches at least this success probability.
     pub min_success: f64,
+    /// Also give up when no plan is worth starting by the paper's own objective: when even the
+    /// plan that minimises cost(π) + R·(1 − p(π)) has p(π)·R ≤ cost(π), that objective is at
+    /// least R, the value of not acting at all (the goal's reward is never earned). The success
+    /// threshold is then cost(π)/R, per plan, beside the fixed `min_success`. Off by default
+    /// (the paper's rule, on p alone).
+    pub give_up_unless_worth_it: bool,
     /// Replan when an assumption the plan relies on becomes less likely than this.
     pub min_assumption: f64,
     /// Which plan to start: the one best for the fixed reward R of `search` (the paper's
@@ -66,6 +72,7 @@ impl Default for ContinualOptions {
                 ..SearchOptions::default()
             },
             min_success: 0.01,
+            give_up_unless_worth_it: false,
             min_assumption: 0.05,
             objective: Objective::default(),
         }
@@ -128,6 +135,17 @@ pub enum GiveUp {
         /// The threshold.
         threshold: f64,
     },
+    /// Plans exist, but none is worth its cost: the best for the paper's objective succeeds
+    /// with `probability` at `cost`, and `probability`·`reward` ≤ `cost`
+    /// ([`ContinualOptions::give_up_unless_worth_it`]).
+    NotWorthIt {
+        /// That plan's success probability.
+        probability: f64,
+        /// Its cost.
+        cost: f64,
+        /// The reward R for reaching the goal.
+        reward: f64,
+    },
 }
 
 impl fmt::Display for GiveUp {
@@ -141,6 +159,16 @@ impl fmt::Display for GiveUp {
             GiveUp::TooUnlikely { best: None, threshold } => write!(
                 f,
                 "no plan succeeds with probability at least {threshold}"
+            ),
+            GiveUp::NotWorthIt {
+                probability,
+                cost,
+                reward,
+            } => write!(
+                f,
+                "the most promising plan succeeds with probability {probability:.4}, below the \
+                 threshold {:.4} at which the reward {reward} pays its cost {cost:.1}",
+                cost / reward
             ),
         }
     }
@@ -351,6 +379,29 @@ impl ContinualPlanner {
                 best,
                 threshold: self.options.min_success,
             }));
+        };
+        let reward = self.options.search.reward;
+        let worth_it = |p: &Plan| p.probability * reward > p.cost;
+        let plan = if self.options.give_up_unless_worth_it && !worth_it(&plan) {
+            // The ratio objective's plan may stop short of the best ratio (a bounded number of
+            // rounds): the plan that is best for the configured R itself settles it.
+            let fixed = match self.options.objective {
+                Objective::Fixed => Some(plan.clone()),
+                Objective::Ratio => search(task, &SearchOptions { reward, ..opts })?.0,
+            };
+            match fixed {
+                Some(f) if worth_it(&f) => f,
+                other => {
+                    let p = other.unwrap_or(plan);
+                    return Ok(Decision::GiveUp(GiveUp::NotWorthIt {
+                        probability: p.probability,
+                        cost: p.cost,
+                        reward,
+                    }));
+                }
+            }
+        } else {
+            plan
         };
         let steps = hoist_assumptions(task, &plan.steps);
         tracing::debug!(cost = plan.cost, p = plan.probability, "plan found");

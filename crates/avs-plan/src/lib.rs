@@ -38,8 +38,11 @@
 //!   least when they are taken by decreasing p/cost (the index rule of optimal search). So
 //!   [`continual::Objective::Ratio`] starts the plan with the largest p(π)/cost(π): the plan
 //!   optimal for the paper's objective with R equal to its own cost/p, found by Dinkelbach's
-//!   iteration. The success threshold for giving up is on p alone, as in the paper. The
-//!   default stays the paper's fixed R: on the agent's benches the ratio objective pays off
+//!   iteration. The success threshold for giving up is on p alone, as in the paper, unless
+//!   [`continual::ContinualOptions::give_up_unless_worth_it`] asks for the paper's objective
+//!   too: give up when even the plan best for R has p(π)·R ≤ cost(π), since stopping (whose
+//!   objective is R) is then no worse; under the ratio objective, whose plans ignore R, this
+//!   is the only place R still matters. The default stays the paper's fixed R: on the agent's benches the ratio objective pays off
 //!   together with rooms that count their unfound landmarks, and that pair lets more
 //!   look-alikes through the agent's fixed verification rule (BENCHMARKS.md).
 //! * **Probability of a plan.** p(π) = Π p(a) over all steps; assumptions carry the caller's

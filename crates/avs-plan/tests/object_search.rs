@@ -4,7 +4,9 @@
 
 mod common;
 
-use avs_plan::continual::{ContinualOptions, ContinualPlanner, Decision, GiveUp, Replan, Verdict};
+use avs_plan::continual::{
+    ContinualOptions, ContinualPlanner, Decision, GiveUp, Objective, Replan, Verdict,
+};
 use avs_plan::lifted::validate_steps;
 use avs_plan::problem::Problem;
 use common::*;
@@ -215,6 +217,86 @@ fn monitor_reports_failed_preconditions_and_reached_goals() {
     let done = w.problem.clone().set("reported(cerealbox) = yes");
     assert_eq!(pl.monitor(&p1, 3, &done, &f).unwrap(), Verdict::GoalReached);
     assert_eq!(pl.plan(&done, &f).unwrap(), Decision::GoalReached);
+}
+
+#[test]
+fn a_search_that_gives_up_stops_once_no_plan_pays_its_cost() {
+    let w = office_start(3, &LABELS, "cerealbox");
+    let f = functions(&w.xy);
+    for objective in [Objective::Fixed, Objective::Ratio] {
+        // The best plan for the default R, and rewards around the one at which it just pays.
+        let best = plan_of(planner().plan(&w.problem, &f).unwrap());
+        let pays_at = best.cost / best.probability;
+        for factor in [0.25, 0.5, 0.9, 1.1, 2.0, 8.0] {
+            let reward = pays_at * factor;
+            let with = |on: bool| {
+                let mut o = ContinualOptions {
+                    give_up_unless_worth_it: on,
+                    objective,
+                    ..ContinualOptions::default()
+                };
+                o.search.reward = reward;
+                ContinualPlanner::new(object_search_domain(), o)
+                    .plan(&w.problem, &f)
+                    .unwrap()
+            };
+            // The oracle: the plan that is best for R by the paper's objective, found without
+            // the rule, pays its cost exactly when the rule keeps planning.
+            let mut fixed = ContinualOptions::default();
+            fixed.search.reward = reward;
+            let oracle = plan_of(
+                ContinualPlanner::new(object_search_domain(), fixed)
+                    .plan(&w.problem, &f)
+                    .unwrap(),
+            );
+            let pays = oracle.probability * reward > oracle.cost;
+            match with(true) {
+                Decision::Plan(p) => {
+                    assert!(
+                        pays,
+                        "{objective:?} R = {reward}: planned though no plan pays"
+                    );
+                    assert!(
+                        p.probability * reward > p.cost,
+                        "{objective:?} R = {reward}"
+                    );
+                }
+                Decision::GiveUp(
+                    g @ GiveUp::NotWorthIt {
+                        probability,
+                        cost,
+                        reward: r,
+                    },
+                ) => {
+                    assert!(
+                        !pays,
+                        "{objective:?} R = {reward}: gave up ({g}) though a plan pays"
+                    );
+                    assert_eq!(r, reward);
+                    assert!(probability * r <= cost);
+                    assert!(g.to_string().contains("threshold"), "{g}");
+                }
+                other => panic!("{objective:?} R = {reward}: {other:?}"),
+            }
+            // Without the rule the planner plans whatever R is.
+            assert!(matches!(with(false), Decision::Plan(_)));
+        }
+        // A reward far below the plan's cost per probability gives up; far above, it plans.
+        let mut o = ContinualOptions {
+            give_up_unless_worth_it: true,
+            objective,
+            ..ContinualOptions::default()
+        };
+        o.search.reward = pays_at * 0.01;
+        let low = ContinualPlanner::new(object_search_domain(), o).plan(&w.problem, &f);
+        assert!(
+            matches!(low, Ok(Decision::GiveUp(GiveUp::NotWorthIt { .. }))),
+            "{low:?}"
+        );
+        o.search.reward = pays_at * 100.0;
+        let high = ContinualPlanner::new(object_search_domain(), o).plan(&w.problem, &f);
+        assert!(matches!(high, Ok(Decision::Plan(_))), "{high:?}");
+    }
 }
 
 #[test]

@@ -375,12 +375,15 @@ fn the_plan_budget_grows_with_the_rooms_the_robot_knows() {
         Pose2D::new(2.0, 2.0, 0.0),
         Camera::default(),
     );
-    let config = AgentConfig {
+    let mut config = AgentConfig {
         max_plans: 1,
         plans_per_room: 2,
         cover_before_giving_up: false,
         ..AgentConfig::default()
     };
+    // A reward that pays for any plan: without coverage the search would otherwise stop once
+    // no plan is worth its cost, before the budget this test is about.
+    config.planner.search.reward = 1e9;
     let mut agent = Agent::new(domain, testing::knowledge(), config.clone()).unwrap();
     let report = agent.search(&mut robot, Goal::find("cerealbox")).unwrap();
     let text = crate::trace::render_text(&report.trace);
