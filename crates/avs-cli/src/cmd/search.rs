@@ -81,8 +81,9 @@ pub struct Args {
     /// what earlier looks saw of its class.
     #[arg(long)]
     pub find_all: bool,
-    /// When the planner gives up: `paper` ends the search there (the paper's threshold),
-    /// `cover` first covers what no search has looked at.
+    /// When the planner gives up: `paper` ends the search there (the paper's threshold, or
+    /// no plan worth its cost by the paper's objective), `cover` first covers what no search
+    /// has looked at.
     #[arg(long, value_enum, default_value_t = GiveUp::Cover)]
     pub give_up: GiveUp,
     /// Give the simulated robot its place classifier (size, shape, appearance readings as
@@ -185,7 +186,7 @@ impl From<ObjectiveArg> for avs_plan::continual::Objective {
 /// What the agent does when the planner gives up.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum GiveUp {
-    /// End the search (the paper's threshold).
+    /// End the search (the paper's threshold, or no plan worth its cost).
     Paper,
     /// Cover what no search has looked at first.
     Cover,
