@@ -1,8 +1,8 @@
 //! Looking around on entering a room: a pan over the full circle for the landmark classes, at
 //! the tilts that keep every landmark the robot can see in the central half of an image
 //! ([`look_tilts`]); landmarks seen twice (or confirmed by views centred on them, [`Relook`])
-//! in the same room become in/on locations, and their counts are object-count evidence on the room's
-//! category (Aydemir et al. 2011, `002` §III-A, eq. 1, thinned by the look's coverage).
+//! in the same room become in/on locations, and their counts are object-count evidence on the
+//! room's category (Aydemir et al. 2011, `002` §III-A, eq. 1, thinned by the look's coverage).
 //!
 //! The same images run the detector of the class searched for (a view lists every object
 //! searched for in it: Sjöö et al., `004` §2.1.2). A sighting of it, confirmed as a landmark's
@@ -325,9 +325,9 @@ pub(crate) fn look_tilts(
 /// target's sighting is a candidate that the verifier then looks at from closer up with its
 /// own model ([`super::verify`]); the look around only screens it, by one more sighting in
 /// the [`relooks`] that a real one needs to show again with probability
-/// [`SIGHTING_SHOWS_AGAIN`]. Screened by the sequential test too, two targets in three seen
-/// from the door of a 30-room bench floor's room were lost for one more miss (seed 1: SPL
-/// 0.301 → 0.220, floor 2's whiteboard marker 4 → 25 m, floor 12's cereal box 137 → 754 m).
+/// [`SIGHTING_SHOWS_AGAIN`]. Screened by the sequential test too, targets in view of a room's
+/// door were dropped for one more miss and found much later (30-room bench, seed 1: SPL
+/// 0.301 → 0.220; floor 2's whiteboard marker 4 → 25 m, floor 12's cereal box 137 → 754 m).
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Again {
     /// A landmark's sighting: the sequential test.
