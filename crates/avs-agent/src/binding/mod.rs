@@ -442,7 +442,6 @@ mod tests {
         assert!(!of_type_in(&b, "object").contains(&names::object(2)));
     }
 
-    /// The names of the problem's objects of type `t`.
     /// The domain's search costs and success of a room search come from the prices the
     /// memory holds: the room's own, a room not known yet's for a hypothesised room, and the
     /// flat ones where nothing is priced.
@@ -493,6 +492,7 @@ mod tests {
         assert!((f(&b, "p-detect-in", &["cerealbox", &r]) - 0.6).abs() < 1e-12);
     }
 
+    /// The names of the problem's objects of type `t`.
     fn of_type_in(b: &Binding, t: &str) -> BTreeSet<String> {
         b.problem
             .objects
