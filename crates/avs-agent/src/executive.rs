@@ -195,6 +195,7 @@ impl Agent {
                     wm,
                     grid,
                     cx.config.robot_radius,
+                    crate::memory::pocket_area(cx.knowledge),
                     cx.config.tuning.clone(),
                 ));
                 body.survey(mem)?;

@@ -210,7 +210,12 @@
 //!   lattice at the class's search heights, and the tops of the landmarks found in it: a laser
 //!   sees a table's edge, not the cells under it, which stay unknown, so without them a room
 //!   search never looked at what lies on its furniture, and a cerealbox a table search had
-//!   missed was not looked at again. The prior P(ObjectAt L) is spread
+//!   missed was not looked at again. A table the look around missed has a top too: the
+//!   room's *pockets* (`avs_map::pockets`: unknown space walled in by the room alone and no
+//!   larger than twice the knowledge's largest landmark footprint) are searched at the
+//!   surfaces' heights and seen over their rim as the top of the lowest surface class; before,
+//!   Fig. 3(f) with seed 3 searched office2 three times around the unreported table that held
+//!   the marker and gave up. The prior P(ObjectAt L) is spread
 //!   uniformly over the location's points the cones cover (spread over all points, a room
 //!   covered to 40% was declared empty after one look, hardly thinned, and searched again and
 //!   again until the plan budget ran out); for an object the plan assumes, it is floored at 0.8

@@ -14,7 +14,8 @@
 //!   against ground truth (per-room and per-pixel precision / recall, MCC);
 //! * [`places`]: the place map — places, paths, confirmed doors, placeholders with their open
 //!   area and door distance, rooms as the components left when door places are cut
-//!   (Aydemir et al., `002_ff7a0884d9f6f2df.txt` §II-B);
+//!   (Aydemir et al., `002_ff7a0884d9f6f2df.txt` §II-B); [`pockets`]: the unknown insides of
+//!   furniture the laser saw only the rim of, each inside one room;
 //! * [`explore`]: the exploration utility of a viewpoint, newly seen area / travel cost
 //!   (Masuzawa & Miura, `001_fbcdba3c18be7464.txt` eq. 6).
 //!
@@ -32,5 +33,6 @@ pub mod memo;
 pub mod metrics;
 pub mod nav;
 pub mod places;
+pub mod pockets;
 pub mod raycast;
 pub mod segment;

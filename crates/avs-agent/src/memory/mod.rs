@@ -16,6 +16,7 @@ use avs_map::grid::{Cell, OccupancyGrid};
 use avs_map::memo::Memo;
 use avs_map::nav::{shortest_path_within, Traversability};
 use avs_map::places::dist;
+use avs_map::pockets::Pocket;
 use avs_map::raycast::walk_segment;
 use avs_robot::{Detection, DoorSighting, Point3};
 use avs_view::PlannedView;
@@ -196,6 +197,13 @@ pub(crate) struct Memory {
     /// The room of every cell of `grid` as of the last sync
     /// ([`avs_map::places::PlaceMap::cell_rooms`]).
     pub cell_rooms: Vec<Option<usize>>,
+    /// The pockets of `grid` as of the last sync ([`avs_map::pockets`]): unknown space walled
+    /// in by one room and no larger than [`pocket_area`] — the insides of furniture the laser
+    /// saw only the rim of, whether or not a detector ever reported the furniture. A room's
+    /// search looks at their tops ([`Memory::surfaces_in_rooms`], `skills::views::room_points`).
+    pub pockets: Vec<Pocket>,
+    /// The largest pocket, square metres ([`pocket_area`] of the knowledge).
+    pocket_area: f64,
     /// The traversability of the known map for the robot's radius, with unknown cells blocked
     /// and free, kept until the map changes: path lengths are asked for many times between
     /// two map updates (every verification standpoint, placeholder and room), and each map
@@ -203,6 +211,30 @@ pub(crate) struct Memory {
     trav_cache: RefCell<Vec<(OccupancyGrid, bool, Traversability)>>,
     robot_radius: f64,
     pub tuning: Tuning,
+}
+
+/// The largest pocket of unknown space a room's search takes for the inside of furniture
+/// ([`Memory::pockets`]), square metres: twice the largest footprint of a landmark class of
+/// `knowledge` (a real piece may be larger than its class's typical size, and its inside is
+/// smaller than its footprint by the rim the laser saw); 0 when the knowledge has no landmark.
+pub fn pocket_area(knowledge: &Knowledge) -> f64 {
+    2.0 * knowledge
+        .object_classes
+        .iter()
+        .filter(|c| c.landmark)
+        .map(|c| c.size[0] * c.size[1])
+        .fold(0.0, f64::max)
+}
+
+/// The height of a pocket's top ([`Memory::pockets`]), metres: a pocket may be any surface
+/// the knowledge has, so its top is the lowest of theirs and a point on any of them rests on
+/// it. Infinite when the knowledge has no surface (then no pocket is searched).
+pub(crate) fn pocket_top(knowledge: &Knowledge) -> f64 {
+    avs_view::surface_classes(knowledge, None)
+        .into_iter()
+        .filter_map(|k| knowledge.class(k))
+        .map(|c| c.size[2])
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Length of the shortest path on `trav` from `from` to `to` when it is at most `max_len` metres
@@ -284,8 +316,15 @@ pub struct Rejection {
 }
 
 impl Memory {
-    /// A memory of nothing yet but the first laser map.
-    pub fn new(wm: WorldModel, grid: OccupancyGrid, robot_radius: f64, tuning: Tuning) -> Self {
+    /// A memory of nothing yet but the first laser map, for a robot of radius `robot_radius`
+    /// whose knowledge has pockets of at most `pocket_area` square metres ([`pocket_area`]).
+    pub fn new(
+        wm: WorldModel,
+        grid: OccupancyGrid,
+        robot_radius: f64,
+        pocket_area: f64,
+        tuning: Tuning,
+    ) -> Self {
         Self {
             wm,
             grid,
@@ -313,6 +352,8 @@ impl Memory {
             doors: Vec::new(),
             door_news: Vec::new(),
             cell_rooms: Vec::new(),
+            pockets: Vec::new(),
+            pocket_area,
             trav_cache: RefCell::new(Vec::new()),
             robot_radius,
             tuning,
@@ -554,7 +595,8 @@ impl Memory {
     /// cell, else that of the place it was filed under.
     pub fn surfaces_in_rooms(&self, knowledge: &Knowledge) -> Vec<(Surface, Option<RoomId>)> {
         let kinds = avs_view::surface_classes(knowledge, None);
-        self.objects
+        let known = self
+            .objects
             .iter()
             .filter(|o| o.landmark.is_some() && kinds.contains(o.class.as_str()))
             .filter_map(|o| {
@@ -566,8 +608,17 @@ impl Memory {
                     top: c.size[2],
                 };
                 Some((s, self.room_at(center).or_else(|| self.room_for(o.place))))
-            })
-            .collect()
+            });
+        let lowest = pocket_top(knowledge);
+        let pockets = self.pockets.iter().filter(|_| lowest.is_finite()).map(|p| {
+            let s = Surface {
+                center: p.center,
+                radius: p.radius,
+                top: lowest,
+            };
+            (s, Some(RoomId(p.room as u64)))
+        });
+        known.chain(pockets).collect()
     }
 
     /// Whether a detection is of nothing the agent knows: no known object of its class within

@@ -151,7 +151,13 @@ pub fn memory(config: &AgentConfig, k: &Knowledge, robot: &mut ScriptedRobot) ->
     let wm = WorldModel::new("knowledge", k, config.places.clone()).expect("knowledge is usable");
     let mut body = Body::new(robot);
     let grid = body.laser_map();
-    let mut mem = Memory::new(wm, grid, config.robot_radius, config.tuning.clone());
+    let mut mem = Memory::new(
+        wm,
+        grid,
+        config.robot_radius,
+        crate::memory::pocket_area(k),
+        config.tuning.clone(),
+    );
     body.survey(&mut mem).expect("the survey syncs");
     mem
 }

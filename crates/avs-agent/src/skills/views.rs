@@ -488,7 +488,9 @@ fn plan_cones_from(
 }
 
 /// The points of room `r` where an object of `class` may be: known cells every
-/// `point_spacing`, at each of the [`search_heights`] (those of the coverage when `cover`).
+/// `point_spacing`, at each of the [`search_heights`] (those of the coverage when `cover`),
+/// and the unknown cells on top of the room's known landmarks and in its pockets
+/// ([`Memory::pockets`]).
 pub(crate) fn room_points(
     cx: Ctx,
     mem: &Memory,
@@ -525,11 +527,29 @@ pub(crate) fn room_points(
         tops.iter()
             .any(|(c, h)| (x - c[0]).abs() <= *h && (y - c[1]).abs() <= *h)
     };
+    // And the pockets of the room: the unknown insides of furniture whether or not the look
+    // around reported it (a table it missed still has a top).
+    let pocket_top = crate::memory::pocket_top(cx.knowledge);
+    let pockets: BTreeSet<(i64, i64)> = mem
+        .pockets
+        .iter()
+        .filter(|p| p.room as u64 == r)
+        .flat_map(|p| p.cells.iter().copied())
+        .collect();
     let mut pts = Vec::new();
     for row in (0..grid.height()).step_by(step) {
         for col in (0..grid.width()).step_by(step) {
             let (x, y) = grid.cell_center(col as i64, row as i64);
             let in_room = if grid.get(col, row) == Cell::Unknown {
+                if !on_a_landmark(x, y) && pockets.contains(&(col as i64, row as i64)) {
+                    // Inside furniture not known: only on its top (nothing under a table's
+                    // top is seen over its rim).
+                    let on_top = heights
+                        .iter()
+                        .filter(|&&z| z >= pocket_top - t.surface_z_tolerance);
+                    pts.extend(on_top.map(|&z| [x, y, z]));
+                    continue;
+                }
                 on_a_landmark(x, y)
             } else {
                 mem.room_at([x, y]) == Some(RoomId(r))
@@ -832,9 +852,10 @@ mod planning_tests {
 
     /// A 5 m × 4 m room with a table whose edge the laser saw and whose top it could not
     /// (the cells under it unknown, as a real scan leaves them): a search of the room looks
-    /// at the table's top too, not only at the floor around it.
+    /// at the table's top too, not only at the floor around it, whether or not the look
+    /// around reported the table (a table it missed still has a top: a pocket of the room).
     #[test]
-    fn a_room_search_covers_the_tops_of_its_known_landmarks() {
+    fn a_room_search_covers_the_tops_of_its_furniture_known_or_not() {
         let (config, k) = (AgentConfig::default(), testing::knowledge());
         let mut grid = testing::room(5.0, 4.0);
         // The table: 1.2 m × 0.8 m centred at (3.0, 2.0) on 0.1 m cells, its rim occupied.
@@ -848,15 +869,43 @@ mod planning_tests {
         let mut robot = testing::robot(grid, [1.0, 2.0]);
         let mut mem = testing::memory(&config, &k, &mut robot);
         let room = mem.current_room().expect("a room");
+        assert_eq!(
+            mem.pockets.len(),
+            1,
+            "the table's inside is the room's one pocket"
+        );
         let cx = testing::ctx(&k, &config);
         let class = k.class("cerealbox").unwrap().clone();
-        let on_table = |pts: &[[f64; 3]]| {
+        let on_table = |pts: &[[f64; 3]]| -> Vec<[f64; 3]> {
             pts.iter()
                 .filter(|p| (p[0] - 3.0).abs() < 0.45 && (p[1] - 2.0).abs() < 0.25)
-                .count()
+                .copied()
+                .collect()
         };
-        // Unknown cells are not the room's while nothing is known to stand there.
-        assert_eq!(on_table(&room_points(cx, &mem, room.0, &class, false)), 0);
+        // No landmark known: the pocket's cells are the room's, at the surfaces' heights.
+        let top = on_table(&room_points(cx, &mem, room.0, &class, false));
+        assert!(!top.is_empty(), "no point on the unseen table's top");
+        assert!(top.iter().all(|p| p[2] > 0.75));
+        // The coverage's heights include the floor: not inside the table.
+        let cover = on_table(&room_points(cx, &mem, room.0, &class, true));
+        assert!(
+            !cover.is_empty() && cover.iter().all(|p| p[2] > 0.75),
+            "{cover:?}"
+        );
+        // And a view sees them over the table's edge.
+        let cam = avs_robot::Camera::default();
+        let set = plan_cones(
+            cx,
+            &mem,
+            &cam,
+            "cerealbox",
+            ConeLoc::Room(room.0),
+            Some(top.clone()),
+            &[1.0],
+        )
+        .expect("a known class");
+        assert!(set.covered_share > 0.99, "{}", set.covered_share);
+        // Once the table is known, its top is looked at as before, each point once.
         let place = mem.current_place().expect("a place");
         let lm = mem.wm.found_landmark(place, "table").unwrap();
         mem.objects.push(crate::memory::Known {
@@ -873,7 +922,7 @@ mod planning_tests {
             confidence: 1.0,
         });
         let pts = room_points(cx, &mem, room.0, &class, false);
-        assert!(on_table(&pts) > 0, "no point on the table's top: {pts:?}");
+        assert_eq!(on_table(&pts), top);
     }
 
     /// Two 4 m × 4 m rooms side by side, a 0.2 m wall between them with a 1 m door in its
