@@ -221,6 +221,26 @@ pub struct SensorModel {
     /// P(detection | no object in view), in [0, 1). Default 0.05 (Aydemir et al. 2011, §II-C).
     #[serde(default = "default_fp")]
     pub false_positive: f64,
+    /// How the detector's errors follow the vantage point (Velez et al. 2012): looks at a spot
+    /// from vantage points closer than these lengths repeat one another and are one look's
+    /// evidence. Absent (the default): every look is an independent draw, as the simulator's
+    /// default detector makes it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub correlation: Option<LookCorrelation>,
+}
+
+/// The lengths over which a detector's errors at one spot stay alike
+/// ([`SensorModel::correlation`]): two vantage points closer than one length of range *and*
+/// aspect (in the normalised distance `√((Δr/ℓ_r)² + (Δφ/ℓ_φ)²) < 1`) see the same thing.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LookCorrelation {
+    /// The range length as a share of the class's `detection_range[1]` (a detector's working
+    /// distances scale with the object's size), > 0.
+    pub range_share: f64,
+    /// The aspect length: the angle around the spot between two vantage points, degrees, in
+    /// (0, 180].
+    pub aspect_deg: f64,
 }
 
 fn default_fn() -> f64 {
@@ -235,6 +255,7 @@ impl Default for SensorModel {
         Self {
             false_negative: default_fn(),
             false_positive: default_fp(),
+            correlation: None,
         }
     }
 }
@@ -656,6 +677,22 @@ pub fn validate(file: &str, k: &Knowledge) -> Vec<Diagnostic> {
             );
         }
     }
+    if let Some(c) = &k.sensor.correlation {
+        if !(c.range_share.is_finite() && c.range_share > 0.0) {
+            err(
+                "sensor.correlation.range_share".into(),
+                format!("{} is not a positive share", c.range_share),
+                "use a finite number > 0, e.g. 0.2 (a fifth of the detection range)".into(),
+            );
+        }
+        if !(c.aspect_deg > 0.0 && c.aspect_deg <= 180.0) {
+            err(
+                "sensor.correlation.aspect_deg".into(),
+                format!("{} is not an angle in (0, 180] degrees", c.aspect_deg),
+                "use a number of degrees in (0, 180], e.g. 30".into(),
+            );
+        }
+    }
     out
 }
 
@@ -702,6 +739,27 @@ landmark_rates:
         assert_eq!(d[0].path, "object_rates.cup[0]");
         assert_eq!(d[0].file, "k.yaml");
         assert!(d[0].expected.contains(">= 0"));
+    }
+
+    #[test]
+    fn a_sensor_correlation_is_checked_field_by_field() {
+        let with = |c: &str| {
+            let text = format!("{GOOD}sensor: {{ false_negative: 0.2, correlation: {c} }}\n");
+            check("k.yaml", &text)
+        };
+        assert_eq!(with("{ range_share: 0.2, aspect_deg: 30 }"), vec![]);
+        let d = with("{ range_share: 0, aspect_deg: 181 }");
+        let paths: Vec<&str> = d.iter().map(|d| d.path.as_str()).collect();
+        assert_eq!(
+            paths,
+            [
+                "sensor.correlation.range_share",
+                "sensor.correlation.aspect_deg"
+            ]
+        );
+        // A missing length is a parse error, not a silent default.
+        let text = format!("{GOOD}sensor: {{ correlation: {{ aspect_deg: 30 }} }}\n");
+        assert!(crate::load_yaml_str::<Knowledge>("k.yaml", &text).is_err());
     }
 
     #[test]

@@ -109,7 +109,8 @@ pub enum DetectorArg {
     #[default]
     Independent,
     /// Scores correlated over nearby vantage points (Velez et al. 2012); detections fire on
-    /// them.
+    /// them. A knowledge file's `sensor.correlation` tells the `sequential` verifier to take
+    /// each closer look from a new vantage point.
     Correlated,
 }
 

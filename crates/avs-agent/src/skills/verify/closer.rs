@@ -40,81 +40,118 @@ pub(crate) fn approach<'a, R: Robot + ?Sized>(
     c: &CandidateRef<'a>,
 ) -> Result<Option<Closer<'a>>, AgentError> {
     let (label, d) = (c.label, c.sighting);
-    let t = cx.tuning();
     let Some(class) = cx.knowledge.class(label).cloned() else {
         return Ok(None);
     };
-    let target = [d.pose.x, d.pose.y];
-    let here = body.pose();
-    let cam = body.camera();
-    // Far enough that the camera can tilt onto the sighting: a small object on the floor,
-    // 1.2 m below the camera, is out of view from closer than 1.2 m with a 45° tilt limit.
-    let dz = d.pose.z - cam.height;
-    let tilt_limit = if dz < 0.0 {
-        -cam.tilt_limits[0]
-    } else {
-        cam.tilt_limits[1]
-    }
-    .min(t.verify_max_tilt);
-    let min_reach = if tilt_limit > 0.0 {
-        dz.abs() / tilt_limit.tan()
-    } else {
-        f64::INFINITY
-    };
-    let surfaces = mem.surfaces(cx.knowledge);
-    let slack = mem.footprint_slack(cx.knowledge, label).min(t.los_slack);
-    let to = [target[0], target[1], d.pose.z];
-    let stand = mem.with_trav(false, |trav| {
-        let grid = &mem.grid;
-        let line = SightLine {
-            grid,
-            surfaces: &surfaces,
-            slack,
-            z_tolerance: t.surface_z_tolerance,
-            unknown_blocks: false,
-        };
-        let [lo, hi] = class.recognition_range;
-        let mut best: Option<([f64; 2], f64)> = None;
-        for r in [0.5 * (lo + hi), hi, 0.5 * (hi + class.detection_range[1])] {
-            let r = r.max(min_reach);
-            for k in 0..t.verify_bearings {
-                let a = std::f64::consts::TAU * k as f64 / t.verify_bearings as f64;
-                let p = [target[0] + r * a.cos(), target[1] + r * a.sin()];
-                let (c, rw) = grid.world_to_cell(p[0], p[1]);
-                if grid.get_i(c, rw) != Cell::Free || !trav.ok(c, rw) {
-                    continue;
-                }
-                if !sight_clear(&line, p, to) {
-                    continue;
-                }
-                let Some(l) = path_len_on(trav, [here.x, here.y], p, f64::INFINITY) else {
-                    continue;
-                };
-                if best.is_none_or(|(_, b)| l < b) {
-                    best = Some((p, l));
-                }
-            }
-            if best.is_some() {
-                break;
-            }
-        }
-        best.map(|(p, _)| p)
-    });
-    if let Some(p) = stand {
-        if let Err(e) = body.go_to(mem, p)? {
-            run.observe(format!("on the way to verify the {label}: {e}"));
-        }
-    }
-    Ok(Some(Closer {
+    let mut closer = Closer {
         class,
         label,
         sighting: d,
         reach: f64::INFINITY,
         best: None,
-    }))
+    };
+    closer.walk_to_stand(cx, mem, body, run, |_| true)?;
+    Ok(Some(closer))
 }
 
 impl Closer<'_> {
+    /// The standpoint nearest the robot (by path) from which the sighting is looked at again,
+    /// among those whose vantage point ([`Self::vantage`]) `wanted` accepts: on the first ring around the sighting that has one (the
+    /// middle of the class's recognition range, its far end, halfway to the detection range's
+    /// far end; each no closer than the camera's tilt allows), at one of `verify_bearings`
+    /// bearings, on a free cell the robot fits on, with a clear line of sight.
+    fn nearest_stand<R: Robot + ?Sized>(
+        &self,
+        cx: Ctx,
+        mem: &Memory,
+        body: &Body<R>,
+        wanted: impl Fn([f64; 2]) -> bool,
+    ) -> Option<[f64; 2]> {
+        let (t, d, class) = (cx.tuning(), self.sighting, &self.class);
+        let target = [d.pose.x, d.pose.y];
+        let here = body.pose();
+        let cam = body.camera();
+        // Far enough that the camera can tilt onto the sighting: a small object on the floor,
+        // 1.2 m below the camera, is out of view from closer than 1.2 m with a 45° tilt limit.
+        let dz = d.pose.z - cam.height;
+        let tilt_limit = if dz < 0.0 {
+            -cam.tilt_limits[0]
+        } else {
+            cam.tilt_limits[1]
+        }
+        .min(t.verify_max_tilt);
+        let min_reach = if tilt_limit > 0.0 {
+            dz.abs() / tilt_limit.tan()
+        } else {
+            f64::INFINITY
+        };
+        let surfaces = mem.surfaces(cx.knowledge);
+        let slack = mem
+            .footprint_slack(cx.knowledge, self.label)
+            .min(t.los_slack);
+        let to = [target[0], target[1], d.pose.z];
+        mem.with_trav(false, |trav| {
+            let grid = &mem.grid;
+            let line = SightLine {
+                grid,
+                surfaces: &surfaces,
+                slack,
+                z_tolerance: t.surface_z_tolerance,
+                unknown_blocks: false,
+            };
+            let [lo, hi] = class.recognition_range;
+            let mut best: Option<([f64; 2], f64)> = None;
+            for r in [0.5 * (lo + hi), hi, 0.5 * (hi + class.detection_range[1])] {
+                let r = r.max(min_reach);
+                for k in 0..t.verify_bearings {
+                    let a = std::f64::consts::TAU * k as f64 / t.verify_bearings as f64;
+                    let p = [target[0] + r * a.cos(), target[1] + r * a.sin()];
+                    let (c, rw) = grid.world_to_cell(p[0], p[1]);
+                    if grid.get_i(c, rw) != Cell::Free
+                        || !trav.ok(c, rw)
+                        || !wanted(self.vantage(cx, &cam, p))
+                    {
+                        continue;
+                    }
+                    if !sight_clear(&line, p, to) {
+                        continue;
+                    }
+                    let Some(l) = path_len_on(trav, [here.x, here.y], p, f64::INFINITY) else {
+                        continue;
+                    };
+                    if best.is_none_or(|(_, b)| l < b) {
+                        best = Some((p, l));
+                    }
+                }
+                if best.is_some() {
+                    break;
+                }
+            }
+            best.map(|(p, _)| p)
+        })
+    }
+
+    /// Walk to the [`Self::nearest_stand`] whose vantage point `wanted` accepts; whether there
+    /// was one. A
+    /// failed walk is observed in the trace (the looks are then taken from where the robot
+    /// stands).
+    pub fn walk_to_stand<R: Robot + ?Sized>(
+        &mut self,
+        cx: Ctx,
+        mem: &mut Memory,
+        body: &mut Body<R>,
+        run: &mut Run,
+        wanted: impl Fn([f64; 2]) -> bool,
+    ) -> Result<bool, AgentError> {
+        let Some(p) = self.nearest_stand(cx, mem, body, wanted) else {
+            return Ok(false);
+        };
+        if let Err(e) = body.go_to(mem, p)? {
+            run.observe(format!("on the way to verify the {}: {e}", self.label));
+        }
+        Ok(true)
+    }
+
     /// One look from where the robot stands, centred on where the object is best estimated
     /// to be — the sighting, then the most confident closer detection so far — and zoomed so
     /// that it lies in the middle of the recognition range (Sjöö et al., §3.4: the distance
@@ -152,15 +189,8 @@ impl Closer<'_> {
         let dz = centre.z - cam.height;
         let (pan, tilt) = cam.aim(pose, centre);
         let [lo, hi] = self.class.recognition_range;
-        let mid = 0.5 * (lo + hi);
         let away = dx.hypot(dy).hypot(dz);
-        // With measured sensing the level's measured range is where it recognises the class;
-        // otherwise the recognition range scaled by the zoom.
-        let (zoom, window) = match cx.config.sensing(label).and_then(|m| m.level_at(away)) {
-            Some((z, range)) => (z, Some(range)),
-            None => (away / mid.max(1e-3), None),
-        };
-        let zoom = zoom.clamp(1.0, cam.max_zoom.max(1.0));
+        let (zoom, window) = self.zoom_at(cx, &cam, away);
         let [near, far] = window.unwrap_or([lo * zoom, hi * zoom]);
         let seen = body
             .look(
@@ -202,6 +232,38 @@ impl Closer<'_> {
             keep_best(&mut self.best, e.clone());
         }
         seen
+    }
+
+    /// The zoom of a look at something `away` metres from the camera, and with measured
+    /// sensing the distances its level recognises the class at (otherwise the recognition
+    /// range scaled by the zoom): the level's measured range, or the zoom that puts it in the
+    /// middle of the recognition range, within the camera's zoom.
+    fn zoom_at(&self, cx: Ctx, cam: &avs_robot::Camera, away: f64) -> (f64, Option<[f64; 2]>) {
+        let [lo, hi] = self.class.recognition_range;
+        let mid = 0.5 * (lo + hi);
+        let (zoom, window) = match cx.config.sensing(self.label).and_then(|m| m.level_at(away)) {
+            Some((z, range)) => (z, Some(range)),
+            None => (away / mid.max(1e-3), None),
+        };
+        (zoom.clamp(1.0, cam.max_zoom.max(1.0)), window)
+    }
+
+    /// The vantage point of a look at the sighting from `at`, as a correlated detector sees
+    /// it (Velez et al. 2012): the planar range divided by the look's zoom (a zoomed image sees
+    /// as from nearer) and the bearing of `at` from the sighting, radians.
+    pub fn vantage(&self, cx: Ctx, cam: &avs_robot::Camera, at: [f64; 2]) -> [f64; 2] {
+        let d = self.sighting.pose;
+        let planar = (at[0] - d.x).hypot(at[1] - d.y);
+        let (zoom, _) = self.zoom_at(cx, cam, planar.hypot(d.z - cam.height));
+        self.vantage_at_zoom(at, zoom)
+    }
+
+    /// The vantage point of a look at the sighting from `at` through zoom `zoom` (see
+    /// [`Self::vantage`]).
+    pub fn vantage_at_zoom(&self, at: [f64; 2], zoom: f64) -> [f64; 2] {
+        let d = self.sighting.pose;
+        let (dx, dy) = (at[0] - d.x, at[1] - d.y);
+        [dx.hypot(dy) / zoom, dy.atan2(dx)]
     }
 
     /// The most confident closer detection so far (the pose a verifier reports), if any.
