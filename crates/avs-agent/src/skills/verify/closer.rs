@@ -56,10 +56,11 @@ pub(crate) fn approach<'a, R: Robot + ?Sized>(
 
 impl Closer<'_> {
     /// The standpoint nearest the robot (by path) from which the sighting is looked at again,
-    /// among those whose vantage point ([`Self::vantage`]) `wanted` accepts: on the first ring around the sighting that has one (the
-    /// middle of the class's recognition range, its far end, halfway to the detection range's
-    /// far end; each no closer than the camera's tilt allows), at one of `verify_bearings`
-    /// bearings, on a free cell the robot fits on, with a clear line of sight.
+    /// among those whose vantage point ([`Self::vantage`]) `wanted` accepts: on the first
+    /// ring around the sighting that has one (the middle of the class's recognition range,
+    /// its far end, halfway to the detection range's far end; each no closer than the
+    /// camera's tilt allows), at one of `verify_bearings` bearings, on a free cell the robot
+    /// fits on, with a clear line of sight.
     fn nearest_stand<R: Robot + ?Sized>(
         &self,
         cx: Ctx,
@@ -132,9 +133,8 @@ impl Closer<'_> {
     }
 
     /// Walk to the [`Self::nearest_stand`] whose vantage point `wanted` accepts; whether there
-    /// was one. A
-    /// failed walk is observed in the trace (the looks are then taken from where the robot
-    /// stands).
+    /// was one. A failed walk is observed in the trace (the looks are then taken from where
+    /// the robot stands).
     pub fn walk_to_stand<R: Robot + ?Sized>(
         &mut self,
         cx: Ctx,

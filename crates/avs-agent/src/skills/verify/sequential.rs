@@ -54,8 +54,8 @@
 //!   simulator's look-alikes fire from a fresh vantage point about a third of the time, not at
 //!   the knowledge's FP of 0.05, and with that rate the wrong reports fell to 0 but the real
 //!   targets could not pass the price of a wrong report in 8 looks (success 0.585). Scores,
-//!   not hits, tell them apart: the
-//!   planned verifiers (BENCHMARKS.md, issue 20 session "a second look from the same place is no new evidence").
+//!   not hits, tell them apart: the planned verifiers (BENCHMARKS.md, issue 20 session "a
+//!   second look from the same place is no new evidence").
 
 use super::closer::approach;
 use super::{CandidateRef, Verdict};
@@ -125,7 +125,9 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
             reach: None,
         });
     }
-    // Where the sighting was made from: the robot has not moved since.
+    // Where the sighting was made from: the robot has not moved since it saw it. (A sighting
+    // an earlier search made is verified from wherever the robot is: the vantage point kept
+    // out is then merely one more.)
     let sighted_from = {
         let p = body.pose();
         [p.x, p.y]
