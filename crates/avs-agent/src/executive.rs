@@ -195,7 +195,7 @@ impl Agent {
                     wm,
                     grid,
                     cx.config.robot_radius,
-                    crate::memory::pocket_area(cx.knowledge),
+                    crate::memory::pocket_size(cx.knowledge),
                     cx.config.tuning.clone(),
                 ));
                 body.survey(mem)?;

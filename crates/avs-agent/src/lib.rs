@@ -212,7 +212,8 @@
 //!   search never looked at what lies on its furniture, and a cerealbox a table search had
 //!   missed was not looked at again. A table the look around missed has a top too: the
 //!   room's *pockets* (`avs_map::pockets`: unknown space walled in by the room alone and no
-//!   larger than twice the knowledge's largest landmark footprint) are searched at the
+//!   larger than twice the knowledge's largest landmark footprint, nor wider than its diagonal)
+//!   are searched at the
 //!   surfaces' heights and seen over their rim as the top of the lowest surface class; before,
 //!   Fig. 3(f) with seed 3 searched office2 three times around the unreported table that held
 //!   the marker and gave up. The prior P(ObjectAt L) is spread

@@ -5,15 +5,17 @@
 //! the footprint's rim becomes occupied cells, its inside stays unknown. Once a room is
 //! mapped, such an inside is a *pocket*: a 4-connected component of unknown cells that
 //! touches neither the grid's border nor any cell of another room (nor an unlabelled one, such
-//! as the space beyond an unvisited door), and that is no larger than a piece of furniture.
+//! as the space beyond an unvisited door), and that is no larger than a piece of furniture, in
+//! area and in extent (the inside of a thick wall seen from one side only is a long thin strip
+//! of unknown cells, not furniture).
 //! A search of the room must look at what may lie on it, whether or not a detector ever
 //! reported the furniture: a table the look around missed still has a top.
 //!
 //! Choices (an expert's where nothing is published): 4-connectivity, as the room labels of
 //! [`crate::places::PlaceMap::cell_rooms`] are 4-connected, so a component cannot slip
-//! diagonally out through a wall's corner; the size bound is the caller's (the agent derives
-//! it from the largest landmark of its knowledge), so that the unknown inside of a closed room
-//! walled in by one neighbour is not taken for furniture.
+//! diagonally out through a wall's corner; the size bounds are the caller's (the agent derives
+//! them from the largest landmark of its knowledge), so that the unknown inside of a closed
+//! room walled in by one neighbour is not taken for furniture.
 //!
 //! ```
 //! use avs_map::grid::OccupancyGrid;
@@ -27,7 +29,7 @@
 //! .unwrap();
 //! // Every known cell is in room 7.
 //! let labels = vec![Some(7); g.width() * g.height()];
-//! let p = enclosed_pockets(&g, &labels, 1.0);
+//! let p = enclosed_pockets(&g, &labels, 1.0, 1.0);
 //! assert_eq!(p.len(), 1);
 //! assert_eq!((p[0].room, p[0].cells.len()), (7, 1));
 //! assert!((p[0].center[0] - 1.75).abs() < 1e-9 && (p[0].center[1] - 1.75).abs() < 1e-9);
@@ -50,14 +52,16 @@ pub struct Pocket {
 }
 
 /// The pockets of `known` ([module docs](self)): components of unknown cells of at most
-/// `max_area` square metres, away from the grid's border, every 4-neighbour of which outside
-/// the component is a known cell labelled with one and the same room in `labels` (row-major,
-/// one per cell, as [`crate::places::PlaceMap::cell_rooms`] gives them). Linear in the number
-/// of cells. Panics if `labels` is not one label per cell.
+/// `max_area` square metres and of a [`Pocket::radius`] of at most `max_radius` metres, away
+/// from the grid's border, every 4-neighbour of which outside the component is a known cell
+/// labelled with one and the same room in `labels` (row-major, one per cell, as
+/// [`crate::places::PlaceMap::cell_rooms`] gives them). Linear in the number of cells. Panics
+/// if `labels` is not one label per cell.
 pub fn enclosed_pockets(
     known: &OccupancyGrid,
     labels: &[Option<usize>],
     max_area: f64,
+    max_radius: f64,
 ) -> Vec<Pocket> {
     let (w, h) = (known.width() as i64, known.height() as i64);
     assert_eq!(labels.len(), (w * h) as usize, "one label per cell");
@@ -123,6 +127,9 @@ pub fn enclosed_pockets(
                 .iter()
                 .map(|p| (p.0 - center[0]).hypot(p.1 - center[1]) + half_diagonal)
                 .fold(0.0, f64::max);
+            if radius > max_radius {
+                continue;
+            }
             pockets.push(Pocket {
                 room,
                 cells,
@@ -164,7 +171,7 @@ mod tests {
     #[test]
     fn the_unseen_top_of_furniture_in_a_room_is_a_pocket_of_that_room() {
         let g = grid(TABLE);
-        let p = enclosed_pockets(&g, &labels(&g, |_, _| Some(3)), 2.0);
+        let p = enclosed_pockets(&g, &labels(&g, |_, _| Some(3)), 2.0, 10.0);
         assert_eq!(p.len(), 1);
         assert_eq!(p[0].room, 3);
         assert_eq!(p[0].cells.len(), 2);
@@ -180,11 +187,20 @@ mod tests {
     fn a_pocket_larger_than_furniture_is_not_one() {
         let g = grid(TABLE);
         // Two cells are 0.5 m²: not a pocket below that.
-        assert!(enclosed_pockets(&g, &labels(&g, |_, _| Some(3)), 0.49).is_empty());
+        assert!(enclosed_pockets(&g, &labels(&g, |_, _| Some(3)), 0.49, 10.0).is_empty());
         assert_eq!(
-            enclosed_pockets(&g, &labels(&g, |_, _| Some(3)), 0.5).len(),
+            enclosed_pockets(&g, &labels(&g, |_, _| Some(3)), 0.5, 10.0).len(),
             1
         );
+    }
+
+    #[test]
+    fn a_long_thin_strip_is_no_pocket_whatever_its_area() {
+        // The unknown inside of a thick wall, seen from one room only: 4 m long, 2 m² in all.
+        let g = grid("##########\n#........#\n#........#\n##########\n#????????#\n##########\n");
+        let l = labels(&g, |_, _| Some(1));
+        assert!(enclosed_pockets(&g, &l, 3.0, 1.0).is_empty());
+        assert_eq!(enclosed_pockets(&g, &l, 3.0, 2.5).len(), 1);
     }
 
     #[test]
@@ -192,17 +208,17 @@ mod tests {
         let g = grid(TABLE);
         // The table's rim split between rooms 1 (west of column 5) and 2.
         let split = labels(&g, |c, _| Some(if c < 5 { 1 } else { 2 }));
-        assert!(enclosed_pockets(&g, &split, 2.0).is_empty());
+        assert!(enclosed_pockets(&g, &split, 2.0, 10.0).is_empty());
         // One rim cell no room reaches (space beyond a door, say).
         let hole = labels(&g, |c, r| (!(c == 6 && r == 3)).then_some(1));
-        assert!(enclosed_pockets(&g, &hole, 2.0).is_empty());
+        assert!(enclosed_pockets(&g, &hole, 2.0, 10.0).is_empty());
     }
 
     #[test]
     fn unknown_space_at_the_grid_border_is_no_pocket() {
         // The unknown outside of the building touches the border.
         let g = grid("??????\n?####?\n?#..#?\n?####?\n??????\n");
-        assert!(enclosed_pockets(&g, &labels(&g, |_, _| Some(0)), 100.0).is_empty());
+        assert!(enclosed_pockets(&g, &labels(&g, |_, _| Some(0)), 100.0, 100.0).is_empty());
     }
 
     #[test]
@@ -210,7 +226,7 @@ mod tests {
         // Two tables: two pockets, each cell in exactly one.
         let g =
             grid("#########\n#.......#\n#.##.##.#\n#.#?.?#.#\n#.##.##.#\n#.......#\n#########\n");
-        let p = enclosed_pockets(&g, &labels(&g, |_, _| Some(0)), 1.0);
+        let p = enclosed_pockets(&g, &labels(&g, |_, _| Some(0)), 1.0, 10.0);
         assert_eq!(p.len(), 2);
         let mut cells: Vec<_> = p.iter().flat_map(|q| q.cells.clone()).collect();
         cells.sort();

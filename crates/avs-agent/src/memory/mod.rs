@@ -198,12 +198,12 @@ pub(crate) struct Memory {
     /// ([`avs_map::places::PlaceMap::cell_rooms`]).
     pub cell_rooms: Vec<Option<usize>>,
     /// The pockets of `grid` as of the last sync ([`avs_map::pockets`]): unknown space walled
-    /// in by one room and no larger than [`pocket_area`] — the insides of furniture the laser
+    /// in by one room and no larger than [`pocket_size`] — the insides of furniture the laser
     /// saw only the rim of, whether or not a detector ever reported the furniture. A room's
     /// search looks at their tops ([`Memory::surfaces_in_rooms`], `skills::views::room_points`).
     pub pockets: Vec<Pocket>,
-    /// The largest pocket, square metres ([`pocket_area`] of the knowledge).
-    pocket_area: f64,
+    /// The largest pocket ([`pocket_size`] of the knowledge).
+    pocket_size: PocketSize,
     /// The traversability of the known map for the robot's radius, with unknown cells blocked
     /// and free, kept until the map changes: path lengths are asked for many times between
     /// two map updates (every verification standpoint, placeholder and room), and each map
@@ -213,17 +213,33 @@ pub(crate) struct Memory {
     pub tuning: Tuning,
 }
 
-/// The largest pocket of unknown space a room's search takes for the inside of furniture
-/// ([`Memory::pockets`]), square metres: twice the largest footprint of a landmark class of
-/// `knowledge` (a real piece may be larger than its class's typical size, and its inside is
-/// smaller than its footprint by the rim the laser saw); 0 when the knowledge has no landmark.
-pub fn pocket_area(knowledge: &Knowledge) -> f64 {
-    2.0 * knowledge
-        .object_classes
-        .iter()
-        .filter(|c| c.landmark)
-        .map(|c| c.size[0] * c.size[1])
-        .fold(0.0, f64::max)
+/// How large a pocket of unknown space may be for a room's search to take it for the inside
+/// of furniture ([`Memory::pockets`], [`avs_map::pockets::enclosed_pockets`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PocketSize {
+    /// The largest area, square metres.
+    pub area: f64,
+    /// The largest radius of the disc that holds it, metres.
+    pub radius: f64,
+}
+
+/// The largest pocket of `knowledge` ([`PocketSize`]): twice the largest footprint of a
+/// landmark class in area (a real piece may be larger than its class's typical size, and its
+/// inside is smaller than its footprint by the rim the laser saw), and the largest footprint's
+/// whole diagonal as the radius (twice what the inside of that footprint needs: the unknown
+/// inside of a wall seen from one side only is a long strip, not furniture); zero when the
+/// knowledge has no landmark.
+pub fn pocket_size(knowledge: &Knowledge) -> PocketSize {
+    let landmarks = || knowledge.object_classes.iter().filter(|c| c.landmark);
+    PocketSize {
+        area: 2.0
+            * landmarks()
+                .map(|c| c.size[0] * c.size[1])
+                .fold(0.0, f64::max),
+        radius: landmarks()
+            .map(|c| c.size[0].hypot(c.size[1]))
+            .fold(0.0, f64::max),
+    }
 }
 
 /// The height of a pocket's top ([`Memory::pockets`]), metres: a pocket may be any surface
@@ -317,12 +333,12 @@ pub struct Rejection {
 
 impl Memory {
     /// A memory of nothing yet but the first laser map, for a robot of radius `robot_radius`
-    /// whose knowledge has pockets of at most `pocket_area` square metres ([`pocket_area`]).
+    /// whose knowledge has pockets of at most `pocket_size` ([`pocket_size`]).
     pub fn new(
         wm: WorldModel,
         grid: OccupancyGrid,
         robot_radius: f64,
-        pocket_area: f64,
+        pocket_size: PocketSize,
         tuning: Tuning,
     ) -> Self {
         Self {
@@ -353,7 +369,7 @@ impl Memory {
             door_news: Vec::new(),
             cell_rooms: Vec::new(),
             pockets: Vec::new(),
-            pocket_area,
+            pocket_size,
             trav_cache: RefCell::new(Vec::new()),
             robot_radius,
             tuning,

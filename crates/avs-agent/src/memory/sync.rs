@@ -21,8 +21,12 @@ impl Memory {
         let grid = self.grid.clone();
         self.wm.sync(&grid)?;
         self.cell_rooms = self.wm.places.cell_rooms(&grid);
-        self.pockets =
-            avs_map::pockets::enclosed_pockets(&grid, &self.cell_rooms, self.pocket_area);
+        self.pockets = avs_map::pockets::enclosed_pockets(
+            &grid,
+            &self.cell_rooms,
+            self.pocket_size.area,
+            self.pocket_size.radius,
+        );
         // Placeholders the known map gives no short path to from their place are artefacts
         // (frontier seen through a gap, behind furniture): not worth a plan.
         let ends: Vec<Segment> = {

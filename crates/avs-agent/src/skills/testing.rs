@@ -155,7 +155,7 @@ pub fn memory(config: &AgentConfig, k: &Knowledge, robot: &mut ScriptedRobot) ->
         wm,
         grid,
         config.robot_radius,
-        crate::memory::pocket_area(k),
+        crate::memory::pocket_size(k),
         config.tuning.clone(),
     );
     body.survey(&mut mem).expect("the survey syncs");
