@@ -103,10 +103,17 @@ impl BinaryLooks {
         if prior <= 0.0 || prior >= 1.0 {
             return prior.clamp(0.0, 1.0);
         }
-        let lo = log_odds(prior)
-            + hits as f64 * (self.hit_if_object / self.hit_if_not).ln()
-            + misses as f64 * ((1.0 - self.hit_if_object) / (1.0 - self.hit_if_not)).ln();
-        from_log_odds(lo)
+        from_log_odds(log_odds(prior) + self.log_likelihood_ratio(hits, misses))
+    }
+
+    /// `ln P(looks | object) / P(looks | none)` of `hits` detections and `misses`
+    /// non-detections: each hit adds `ln(hit_if_object / hit_if_not)`, each miss
+    /// `ln((1 − hit_if_object) / (1 − hit_if_not))`; a kind of look that did not happen adds
+    /// nothing, even when its term is infinite (a rate of exactly 0 or 1).
+    pub fn log_likelihood_ratio(&self, hits: usize, misses: usize) -> f64 {
+        let term = |n: usize, ratio: f64| if n == 0 { 0.0 } else { n as f64 * ratio.ln() };
+        term(hits, self.hit_if_object / self.hit_if_not)
+            + term(misses, (1.0 - self.hit_if_object) / (1.0 - self.hit_if_not))
     }
 
     /// P(the next look detects it | belief `b`).

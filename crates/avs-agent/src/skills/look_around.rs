@@ -30,6 +30,7 @@ use crate::trace::{CategoryBelief, Event, LandmarkCount};
 use crate::AgentError;
 use avs_concepts::{Location, RoomId};
 use avs_robot::{Detection, Robot, ViewCone};
+use avs_verify::sequential::BinaryLooks;
 use std::collections::BTreeMap;
 
 /// Look around from where the robot stands for landmark classes: found landmarks become
@@ -403,10 +404,8 @@ const MAX_RELOOKS: usize = 8;
 /// misses in a row give up.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Relook {
-    /// ln of the likelihood ratio of a hit.
-    hit: f64,
-    /// ln of the likelihood ratio of a miss.
-    miss: f64,
+    /// The looks' model: a hit with 1 − FN on a real landmark, with FP on a false alarm.
+    looks: BinaryLooks,
     /// ln B.
     confirm: f64,
     /// ln A.
@@ -415,13 +414,11 @@ struct Relook {
 
 impl Relook {
     fn new(false_negative: f64, false_positive: f64) -> Self {
-        let (fn_, fp) = (
-            false_negative.clamp(0.0, 1.0),
-            false_positive.clamp(0.0, 1.0),
-        );
         Self {
-            hit: ((1.0 - fn_) / fp).ln(),
-            miss: (fn_ / (1.0 - fp)).ln(),
+            looks: BinaryLooks {
+                hit_if_object: 1.0 - false_negative.clamp(0.0, 1.0),
+                hit_if_not: false_positive.clamp(0.0, 1.0),
+            },
             confirm: ((1.0 - LOST_LANDMARK) / FALSE_LANDMARK).ln(),
             give_up: (LOST_LANDMARK / (1.0 - FALSE_LANDMARK)).ln(),
         }
@@ -431,8 +428,7 @@ impl Relook {
     /// up, `None` look again. A NaN ratio (a detector that never misses and never errs,
     /// contradicted) gives up.
     fn decide(&self, hits: usize, misses: usize) -> Option<bool> {
-        let term = |n: usize, l: f64| if n == 0 { 0.0 } else { n as f64 * l };
-        let llr = term(hits, self.hit) + term(misses, self.miss);
+        let llr = self.looks.log_likelihood_ratio(hits, misses);
         if llr >= self.confirm {
             Some(true)
         } else if llr.is_nan() || llr <= self.give_up || hits + misses >= MAX_RELOOKS {

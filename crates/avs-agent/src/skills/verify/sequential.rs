@@ -196,8 +196,7 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
 /// detector.
 fn apart(a: [f64; 2], b: [f64; 2], lengths: [f64; 2]) -> bool {
     let dr = (a[0] - b[0]) / lengths[0];
-    let dphi = (a[1] - b[1]).rem_euclid(std::f64::consts::TAU);
-    let dphi = dphi.min(std::f64::consts::TAU - dphi) / lengths[1];
+    let dphi = avs_map::geometry::wrap_angle(a[1] - b[1]).abs() / lengths[1];
     dr.hypot(dphi) >= 1.0
 }
 
