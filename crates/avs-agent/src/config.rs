@@ -74,8 +74,9 @@ pub struct AgentConfig {
     pub strategy: Strategy,
     /// When the switching planner would give up (the most promising plan below
     /// `planner.min_success`, or `max_plans` spent), first cover what its searches have not
-    /// looked at, nearest room first, exploring the placeholders left, as the uninformed
-    /// strategy does (module `strategy`); give up only when nothing is left. The
+    /// looked at, exploring the placeholders left, as the uninformed strategy does but the
+    /// likeliest room or placeholder per metre first by the conceptual map (module
+    /// `strategy`); give up only when nothing is left. The
     /// probabilities then only order the search: knowledge that puts the target in the wrong
     /// room costs path, not the target. `false` gives up at once, as the paper's planner does
     /// (`002` §III), and then also when no plan is worth its cost by the paper's own objective

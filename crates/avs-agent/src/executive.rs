@@ -497,14 +497,14 @@ fn last_resort<R: Robot + ?Sized>(
         return Ok(Err(reason));
     }
     run.observe(format!(
-        "{reason}: covering what no search has looked at, nearest room first"
+        "{reason}: covering what no search has looked at, the likeliest room per metre first"
     ));
     // The coverage has an action budget of its own.
     let spent = run.metrics.actions;
     run.metrics.actions = 0;
     let passes = cx.tuning().cover_passes;
     let end = body.with_activity(Activity::Coverage, |b| {
-        cover_all(cx, mem, b, run, goal, Strategy::Uninformed, passes, true)
+        cover_all(cx, mem, b, run, goal, Strategy::Planner, passes, true)
     });
     run.metrics.actions += spent;
     Ok(end?.map_err(|e| GiveUpReason::AfterCoverage {

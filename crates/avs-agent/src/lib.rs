@@ -342,9 +342,10 @@
 //! * **Coverage before giving up** ([`AgentConfig::cover_before_giving_up`], on by default).
 //!   When the planner would give up (no plan clears the threshold, or the plan budget is
 //!   spent), the knowledge was wrong or the target lies where it says little: the agent then
-//!   covers, nearest room first, the points no processed view has seen, exploring the
-//!   placeholders left and visiting known free space that no room holds, as the `uninformed`
-//!   baseline does, twice over (one look finds an object inside its planned view with about
+//!   covers the points no processed view has seen, exploring the placeholders left and
+//!   visiting known free space that no room holds, as the `uninformed` baseline does, but the
+//!   likeliest room (or placeholder) per metre first by the conceptual map, not the nearest,
+//!   twice over (one look finds an object inside its planned view with about
 //!   0.6–0.8, so one pass missed the target on about one floor in four), and gives up only when
 //!   nothing is left; the reason names both ("… below the threshold 0.002; then every reachable
 //!   room was covered twice …"). With knowledge that puts the target in an unlikely room,

@@ -84,7 +84,10 @@ pub(crate) fn cover_all<R: Robot + ?Sized>(
         };
         match next {
             Next::Cover(room) => {
-                if let Some(f) = cover_room(cx, mem, body, run, goal, room)? {
+                // The planner's order is chosen afresh after every batch of views (an index
+                // policy); the baselines finish the room they started.
+                let one_batch = strategy == Strategy::Planner;
+                if let Some(f) = cover_room(cx, mem, body, run, goal, room, one_batch)? {
                     return Ok(Ok(f));
                 }
             }
@@ -175,11 +178,13 @@ fn next_step(
 ) -> Option<Next> {
     let covered_share = cx.tuning().covered_share;
     let rooms: Vec<RoomId> = mem.wm.rooms().map(|(r, _)| r).collect();
-    let pending: Vec<(RoomId, f64)> = rooms
+    let open: Vec<(RoomId, f64, f64)> = rooms
         .into_iter()
-        .filter(|&r| uncovered(cx, mem, r, class, run) > 1.0 - covered_share)
-        .filter_map(|r| Some((r, room_distance(mem, at, r)?)))
+        .map(|r| (r, uncovered(cx, mem, r, class, run)))
+        .filter(|&(_, u)| u > 1.0 - covered_share)
+        .filter_map(|(r, u)| Some((r, room_distance(mem, at, r)?, u)))
         .collect();
+    let pending: Vec<(RoomId, f64)> = open.iter().map(|&(r, d, _)| (r, d)).collect();
     tracing::debug!(
         rooms = ?mem
             .wm
@@ -207,8 +212,85 @@ fn next_step(
             }
             nearest_ph.or(nearest_room.map(Next::Cover))
         }
+        Strategy::Planner => likeliest_per_metre(mem, at, &class.name, &open),
         _ => nearest_room.map(Next::Cover).or(nearest_ph),
     }
+}
+
+/// The planner's last resort: of the rooms `open` (room, path length to it, share of its
+/// points not covered yet) and the open placeholders, the one whose cover gains the most
+/// chance of finding `label` per metre — the index rule of optimal search for one object
+/// hidden in one of several boxes (Blackwell 1962; Stone, *Theory of Optimal Search*, §2):
+/// look next where P(found by the look) / cost of the look is largest.
+///
+/// * A room's chance is the conceptual map's P(ObjectAt room) (`002` eq. 1–2: the room's rates
+///   and its landmarks', mixed over its category posterior and thinned by the planner's
+///   failed searches) times the share the coverage has not looked at yet (the object as
+///   likely at any of the room's points); its cost is the walk there plus that share of
+///   covering the whole room, at the metres per share the planner prices a search of the room
+///   at (`skills::views::price_searches`: views processed and the walk between their
+///   standpoints; a room not priced yet at the typical room's price).
+/// * A placeholder's chance is P(an object in the new rooms behind it) (§III-A.1, the map's
+///   structure hypotheses); its cost the walk there plus covering a whole typical room.
+///
+/// Ties go to the nearer, then to rooms before placeholders and the smaller id. A room or
+/// placeholder the map does not hold is not ruled out (P = 1).
+fn likeliest_per_metre(
+    mem: &Memory,
+    at: [f64; 2],
+    label: &str,
+    open: &[(RoomId, f64, f64)],
+) -> Option<Next> {
+    let typical = mem.typical_costs.get(label).copied().flatten();
+    let per_share = |c: Option<crate::memory::Price>| {
+        c.filter(|c| c.share > 0.0 && c.metres.is_finite())
+            .map_or(0.0, |c| c.metres / c.share)
+    };
+    let cm = &mem.wm.concepts;
+    let rooms = open.iter().map(|&(r, d, u)| {
+        let priced = mem
+            .search_costs
+            .get(&(label.to_string(), ConeLoc::Room(r.0)))
+            .and_then(|(_, c)| *c)
+            .or(typical);
+        let p = cm
+            .p_object_at(avs_concepts::Location::Room(r), label)
+            .unwrap_or(1.0);
+        (
+            Next::Cover(r),
+            d,
+            p * u / (d + u * per_share(priced)).max(1e-6),
+        )
+    });
+    let placeholders = mem
+        .phs
+        .iter()
+        .filter(|(k, _)| mem.registry[*k].explored.is_none())
+        .filter_map(|(k, c)| {
+            let d = mem.path_len(at, c.pos, true)?;
+            let p = cm
+                .p_object_behind_placeholder(avs_concepts::PlaceholderId(c.cm_id), label)
+                .unwrap_or(1.0);
+            let id = mem.registry[*k].id;
+            Some((
+                Next::Explore(id, c.pos),
+                d,
+                p / (d + per_share(typical)).max(1e-6),
+            ))
+        });
+    let rank = |n: &Next| match n {
+        Next::Cover(r) => (0, r.0),
+        Next::Explore(id, _) => (1, *id as u64),
+        Next::Visit(_) => (2, 0),
+    };
+    rooms
+        .chain(placeholders)
+        .max_by(|a, b| {
+            a.2.total_cmp(&b.2)
+                .then(b.1.total_cmp(&a.1))
+                .then(rank(&b.0).cmp(&rank(&a.0)))
+        })
+        .map(|(n, _, _)| n)
 }
 
 /// Explore the open placeholder minimising the path from `at` to it plus `beyond(its
@@ -299,7 +381,9 @@ fn outside_rooms(cx: Ctx, mem: &Memory, at: [f64; 2], visited: &[[f64; 2]]) -> O
 /// Cover room `r` by view planning and process its views nearest-neighbour first; a
 /// detection confirmed by a second look is the goal. The views are planned for the room's
 /// points not yet covered, again after each pass, until `covered_share` of them are (or
-/// no view sees the rest, or a pass covers nothing: the rest is given up on).
+/// no view sees the rest, or a pass covers nothing: the rest is given up on); with
+/// `one_batch`, after the first batch of views that leaves more to cover (the caller then
+/// chooses the next room afresh).
 fn cover_room<R: Robot + ?Sized>(
     cx: Ctx,
     mem: &mut Memory,
@@ -307,6 +391,7 @@ fn cover_room<R: Robot + ?Sized>(
     run: &mut Run,
     goal: &Goal,
     room: RoomId,
+    one_batch: bool,
 ) -> Result<Option<FoundObject>, AgentError> {
     let label = goal.class.clone();
     let Some(class) = cx.knowledge.class(&label).cloned() else {
@@ -362,6 +447,9 @@ fn cover_room<R: Robot + ?Sized>(
             // Every view was planned and processed (or none got anywhere): what they did
             // not cover, no view can.
             run.cover(todo.iter().copied());
+            return Ok(None);
+        }
+        if one_batch {
             return Ok(None);
         }
     }
@@ -488,4 +576,72 @@ fn look<R: Robot + ?Sized>(
         .filter(|d| d.class == label && d.confidence >= cx.config.min_confidence)
         .filter(|d| mem.is_new_sighting(d))
         .max_by(|a, b| a.confidence.total_cmp(&b.confidence))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::AgentConfig;
+    use crate::memory::Price;
+    use crate::skills::testing;
+    use avs_concepts::PlaceId;
+
+    /// The two rooms of [`testing::two_rooms`]: the robot starts in the left one and walks
+    /// into the right one (rooms exist where the robot has been), where it stands; a search of
+    /// either room priced at 20 m for all of it. Returns the memory, the left and the right
+    /// room.
+    fn priced_two_rooms() -> (Memory, RoomId, RoomId) {
+        let (config, k) = (AgentConfig::default(), testing::knowledge());
+        let mut robot = testing::robot(testing::two_rooms(), [2.0, 2.0]);
+        let mut mem = testing::memory(&config, &k, &mut robot);
+        Body::new(&mut robot)
+            .go_to(&mut mem, [6.0, 2.0])
+            .expect("the walk runs")
+            .expect("the door is open");
+        mem.sync().expect("the map syncs");
+        let left = mem.room_at([2.0, 2.0]).expect("the left room is known");
+        let right = mem.room_at([6.0, 2.0]).expect("the right room is known");
+        assert_ne!(left, right, "the door splits the floor into two rooms");
+        mem.typical_costs.insert(
+            "cerealbox".into(),
+            Some(Price {
+                metres: 20.0,
+                share: 1.0,
+            }),
+        );
+        (mem, left, right)
+    }
+
+    fn pick(mem: &Memory, open: &[(RoomId, f64, f64)]) -> Option<RoomId> {
+        match likeliest_per_metre(mem, [6.0, 2.0], "cerealbox", open)? {
+            Next::Cover(r) => Some(r),
+            _ => None,
+        }
+    }
+
+    #[test]
+    fn the_last_resort_covers_the_likeliest_room_per_metre_first_not_the_nearest() {
+        let (mut mem, left, right) = priced_two_rooms();
+        let open = [(left, 4.0, 1.0), (right, 0.0, 1.0)];
+        // Nothing tells the rooms apart: the one the robot stands in costs less.
+        assert_eq!(pick(&mem, &open), Some(right));
+        // Two counters in the left room make it a kitchen (where cereal is kept), two desks
+        // the right one an office: the walk of 4 m is worth it.
+        let cm = &mut mem.wm.concepts;
+        cm.observe_objects(left, PlaceId(1000), "counter", 2, 1.0)
+            .unwrap();
+        cm.observe_objects(right, PlaceId(1001), "desk", 2, 1.0)
+            .unwrap();
+        cm.infer().unwrap();
+        let p = |r| {
+            cm.p_object_at(avs_concepts::Location::Room(r), "cerealbox")
+                .unwrap()
+        };
+        assert!(p(left) > 1.2 * p(right), "{} vs {}", p(left), p(right));
+        assert_eq!(pick(&mem, &open), Some(left));
+        // Once most of the kitchen is covered, what is left of it is worth less than the
+        // office the robot stands in.
+        let open = [(left, 4.0, 0.05), (right, 0.0, 1.0)];
+        assert_eq!(pick(&mem, &open), Some(right));
+    }
 }
