@@ -60,7 +60,11 @@ impl Agent {
         // whose model does not build.
         ConceptualMap::new("knowledge", &knowledge)?;
         for c in &knowledge.object_classes {
-            if let Some(v) = c.verifier.as_ref().filter(|v| v.strategy.uses_model()) {
+            if let Some(v) = c
+                .verifier
+                .as_ref()
+                .filter(|v| v.strategy.uses_model() || v.model.is_some())
+            {
                 crate::skills::verify::check_verifier(&knowledge, &c.name, v)?;
             }
         }

@@ -366,10 +366,11 @@ pub fn validate(file: &str, k: &Knowledge) -> Vec<Diagnostic> {
                     format!("no sensor model named `{m}`"),
                     "name one of `sensor_models`".into(),
                 ),
-                (Some(_), false) => err(
+                (Some(_), false) if !v.strategy.accepts_model() => err(
                     format!("{vp}.model"),
                     format!("the `{}` verifier uses no sensor model", v.strategy.name()),
-                    "remove `model`, or choose a planned, greedy or rtbss verifier".into(),
+                    "remove `model`, or choose a sequential, planned, greedy or rtbss verifier"
+                        .into(),
                 ),
                 _ => {}
             }
@@ -821,6 +822,9 @@ landmark_rates:
         assert_eq!(check("k.yaml", &text), vec![]);
         let text = with_verifier("{ strategy: sequential }");
         assert_eq!(check("k.yaml", &text), vec![]);
+        // The sequential verifier weighs its looks' scores with a model when it names one.
+        let text = with_verifier("{ strategy: sequential, model: generic }");
+        assert_eq!(check("k.yaml", &text), vec![]);
     }
 
     #[test]
@@ -838,9 +842,9 @@ landmark_rates:
             path("{ strategy: planned }"),
             "object_classes[1].verifier.model"
         );
-        // The closer-look rules reason with no trained model.
+        // The counting rule reasons with no trained model; a sequential verifier's must exist.
         assert_eq!(
-            path("{ strategy: sequential, model: generic }"),
+            path("{ strategy: sequential, model: doors }"),
             "object_classes[1].verifier.model"
         );
         assert_eq!(

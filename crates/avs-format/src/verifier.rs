@@ -46,8 +46,10 @@ pub enum VerifierStrategy {
     /// Closer looks until the Bayes-optimal policy decides: the knowledge's binary detector
     /// (`sensor.false_negative`, `sensor.false_positive`, looks independent given the truth),
     /// the candidate's prior, and a wrong decision priced as a failed search
-    /// (`avs_verify::sequential`). Uses no sensor model. The default for a class without a
-    /// verifier block.
+    /// (`avs_verify::sequential`). With a `model`, each closer look's detector score at the
+    /// candidate is weighed by that sensor model instead of its hit or miss (a detector whose
+    /// look-alikes fire often, but score lower than objects). The default for a class without
+    /// a verifier block (then without a model).
     Sequential,
 }
 
@@ -64,10 +66,16 @@ impl VerifierStrategy {
         }
     }
 
-    /// Whether the strategy reasons with a trained sensor model (`model` in the block): the
-    /// planned, greedy and RTBSS verifiers do, `count` and `sequential` do not.
+    /// Whether the strategy needs a trained sensor model (`model` in the block): the planned,
+    /// greedy and RTBSS verifiers do, `count` and `sequential` do not.
     pub fn uses_model(self) -> bool {
         !matches!(self, VerifierStrategy::Count | VerifierStrategy::Sequential)
+    }
+
+    /// Whether the strategy can reason with a trained sensor model: all but `count`
+    /// (`sequential` weighs its looks' scores with one when the block names it).
+    pub fn accepts_model(self) -> bool {
+        self != VerifierStrategy::Count
     }
 }
 

@@ -120,6 +120,41 @@ impl BinaryLooks {
     pub fn p_hit(&self, b: f64) -> f64 {
         b * self.hit_if_object + (1.0 - b) * self.hit_if_not
     }
+
+    /// The binary detector hidden in a scoring one: a look "hits" when its score passes the
+    /// midpoint of the two hypotheses' mean scores, with the score under each hypothesis
+    /// moment-matched to a normal ([`crate::sensor::Likelihood::moments`]). A quantised score
+    /// tells no more than the score (the data-processing inequality), so a policy that prices
+    /// the value of a scored look by this detector's ([`decide`]) looks no longer than one that
+    /// knew the score's full value would; the belief itself is still moved by the score
+    /// ([`crate::sensor::LookModel::posterior`]). A look whose object scores are on average no
+    /// higher than the no-object ones gives a detector that is not [`BinaryLooks::is_valid`].
+    ///
+    /// ```
+    /// use avs_verify::sensor::{Likelihood, LookModel, Normal};
+    /// use avs_verify::sequential::BinaryLooks;
+    /// let n = |mean: f64| Likelihood { alpha: 1.0, ind: Normal { mean, var: 0.25 }, corr: Normal { mean, var: 0.25 } };
+    /// let look = LookModel { likelihood: [n(0.8), n(2.0)], damping: 1.0, uncertainty: 0.0 };
+    /// let b = BinaryLooks::quantised(&look);
+    /// // Means 1.2 apart, standard deviation 0.5: each side of 1.4 with 1 − Φ(−1.2) ≈ 0.885.
+    /// assert!((b.hit_if_object - 0.885).abs() < 1e-3 && (b.hit_if_not - 0.115).abs() < 1e-3);
+    /// ```
+    pub fn quantised(look: &crate::sensor::LookModel) -> BinaryLooks {
+        use crate::sensor::{NO_OBJECT, OBJECT};
+        let one = look.likelihood[OBJECT].moments();
+        let none = look.likelihood[NO_OBJECT].moments();
+        let cut = 0.5 * (one.mean + none.mean);
+        let above = |n: crate::sensor::Normal| {
+            1.0 - crate::pbd::std_normal_cdf((cut - n.mean) / n.var.sqrt())
+        };
+        // The disc model moves the belief only part of the way (eq. 11): so much less a hit.
+        let d = look.damping.clamp(0.0, 1.0);
+        let mix = |p: f64| d * p + (1.0 - d) * 0.5;
+        BinaryLooks {
+            hit_if_object: mix(above(one)),
+            hit_if_not: mix(above(none)),
+        }
+    }
 }
 
 /// The log-odds `ln(p / (1 − p))` of a probability in (0, 1) (±∞ at 0 and 1).

@@ -77,7 +77,8 @@ pub fn ctx<'a>(knowledge: &'a Knowledge, config: &'a AgentConfig) -> super::Ctx<
     super::Ctx { knowledge, config }
 }
 
-/// The shipped knowledge with `class` verified by `strategy` and a hand-written sensor model
+/// The shipped knowledge with `class` verified by `strategy` (with the model, unless `count`)
+/// and a hand-written sensor model
 /// `hand` over 6 m: an object scores about 2 (the scripted robot's object score), a
 /// look-alike about 0.8, one look's spread 0.3 about a smooth per-candidate field.
 pub fn knowledge_verified_by(
@@ -126,7 +127,7 @@ pub fn knowledge_verified_by(
         .expect("the class is in the shipped knowledge");
     c.verifier = Some(VerifierSpec {
         strategy,
-        model: strategy.uses_model().then(|| "hand".into()),
+        model: strategy.accepts_model().then(|| "hand".into()),
         threshold: None,
     });
     k

@@ -25,6 +25,8 @@ pub(crate) struct Closer<'a> {
     /// The most confident closer detection so far: the next look is centred on it
     /// ([`Closer::look`]).
     best: Option<Detection>,
+    /// The view of the last look and the point it was centred on.
+    last: Option<(ViewCone, avs_robot::Point3)>,
 }
 
 /// Walk to where candidate `c`'s sighting is best looked at again: the reachable
@@ -43,12 +45,13 @@ pub(crate) fn approach<'a, R: Robot + ?Sized>(
     let Some(class) = cx.knowledge.class(label).cloned() else {
         return Ok(None);
     };
-    let mut closer = Closer {
+    let closer = Closer {
         class,
         label,
         sighting: d,
         reach: f64::INFINITY,
         best: None,
+        last: None,
     };
     closer.walk_to_stand(cx, mem, body, run, |_| true)?;
     Ok(Some(closer))
@@ -56,7 +59,7 @@ pub(crate) fn approach<'a, R: Robot + ?Sized>(
 
 impl Closer<'_> {
     /// The standpoint nearest the robot (by path) from which the sighting is looked at again,
-    /// among those whose vantage point ([`Self::vantage`]) `wanted` accepts: on the first
+    /// among those `wanted` accepts: on the first
     /// ring around the sighting that has one (the middle of the class's recognition range,
     /// its far end, halfway to the detection range's far end; each no closer than the
     /// camera's tilt allows), at one of `verify_bearings` bearings, on a free cell the robot
@@ -108,10 +111,7 @@ impl Closer<'_> {
                     let a = std::f64::consts::TAU * k as f64 / t.verify_bearings as f64;
                     let p = [target[0] + r * a.cos(), target[1] + r * a.sin()];
                     let (c, rw) = grid.world_to_cell(p[0], p[1]);
-                    if grid.get_i(c, rw) != Cell::Free
-                        || !trav.ok(c, rw)
-                        || !wanted(self.vantage(cx, &cam, p))
-                    {
+                    if grid.get_i(c, rw) != Cell::Free || !trav.ok(c, rw) || !wanted(p) {
                         continue;
                     }
                     if !sight_clear(&line, p, to) {
@@ -132,24 +132,24 @@ impl Closer<'_> {
         })
     }
 
-    /// Walk to the [`Self::nearest_stand`] whose vantage point `wanted` accepts; whether there
-    /// was one. A failed walk is observed in the trace (the looks are then taken from where
-    /// the robot stands).
+    /// Walk to the [`Self::nearest_stand`] that `wanted` accepts; that standpoint, if there
+    /// was one (the robot may stop a little off it). A failed walk is observed in the trace
+    /// (the looks are then taken from where the robot stands).
     pub fn walk_to_stand<R: Robot + ?Sized>(
-        &mut self,
+        &self,
         cx: Ctx,
         mem: &mut Memory,
         body: &mut Body<R>,
         run: &mut Run,
         wanted: impl Fn([f64; 2]) -> bool,
-    ) -> Result<bool, AgentError> {
+    ) -> Result<Option<[f64; 2]>, AgentError> {
         let Some(p) = self.nearest_stand(cx, mem, body, wanted) else {
-            return Ok(false);
+            return Ok(None);
         };
         if let Err(e) = body.go_to(mem, p)? {
             run.observe(format!("on the way to verify the {}: {e}", self.label));
         }
-        Ok(true)
+        Ok(Some(p))
     }
 
     /// One look from where the robot stands, centred on where the object is best estimated
@@ -172,6 +172,19 @@ impl Closer<'_> {
         run: &mut Run,
         recognised_only: bool,
     ) -> Option<Detection> {
+        self.look_through(cx, body, run, recognised_only, None)
+    }
+
+    /// [`Self::look`] through zoom `zoom` when given (see [`Self::fresh_zoom`]), the zoom
+    /// [`Self::look`] chooses otherwise.
+    pub fn look_through<R: Robot + ?Sized>(
+        &mut self,
+        cx: Ctx,
+        body: &mut Body<R>,
+        run: &mut Run,
+        recognised_only: bool,
+        zoom: Option<f64>,
+    ) -> Option<Detection> {
         let t = cx.tuning();
         let (label, d) = (self.label, self.sighting);
         let target = [d.pose.x, d.pose.y];
@@ -190,13 +203,16 @@ impl Closer<'_> {
         let (pan, tilt) = cam.aim(pose, centre);
         let [lo, hi] = self.class.recognition_range;
         let away = dx.hypot(dy).hypot(dz);
-        let (zoom, window) = self.zoom_at(cx, &cam, away);
+        let (chosen, window) = self.zoom_at(cx, &cam, away);
+        let (zoom, window) = match zoom {
+            Some(z) => (z.clamp(1.0, cam.max_zoom.max(1.0)), None),
+            None => (chosen, window),
+        };
         let [near, far] = window.unwrap_or([lo * zoom, hi * zoom]);
+        let cone = ViewCone::new(pose, pan, tilt, zoom);
+        self.last = Some((cone, centre));
         let seen = body
-            .look(
-                &ViewCone::new(pose, pan, tilt, zoom),
-                std::slice::from_ref(&label.to_string()),
-            )
+            .look(&cone, std::slice::from_ref(&label.to_string()))
             .ok()
             .and_then(|r| {
                 r.detections
@@ -248,22 +264,64 @@ impl Closer<'_> {
         (zoom.clamp(1.0, cam.max_zoom.max(1.0)), window)
     }
 
-    /// The vantage point of a look at the sighting from `at`, as a correlated detector sees
-    /// it (Velez et al. 2012): the planar range divided by the look's zoom (a zoomed image sees
-    /// as from nearer) and the bearing of `at` from the sighting, radians.
-    pub fn vantage(&self, cx: Ctx, cam: &avs_robot::Camera, at: [f64; 2]) -> [f64; 2] {
+    /// A zoom for a look from `at` whose vantage point `fresh` accepts: the zoom
+    /// [`Self::look`] would choose, else the one that shows the sighting as from the range
+    /// nearest that zoom's among the ranges in `window` (metres, as the detector sees them:
+    /// the planar distance over the zoom) a zoom of the camera reaches, on a grid of an eighth
+    /// of the window. A zoomed image sees the sighting as from nearer (Sjöö et al., `004`
+    /// eq. 1), and a detector whose errors follow the vantage point sees it anew from a range
+    /// one correlation length away: the looks from one standpoint need not repeat each other.
+    /// `None` when no zoom gives a vantage point `fresh` accepts, and always with measured
+    /// sensing (the zoom pipeline's levels reach the class only in their measured windows).
+    pub fn fresh_zoom(
+        &self,
+        cx: Ctx,
+        cam: &avs_robot::Camera,
+        at: [f64; 2],
+        window: [f64; 2],
+        fresh: impl Fn([f64; 2]) -> bool,
+    ) -> Option<f64> {
         let d = self.sighting.pose;
         let planar = (at[0] - d.x).hypot(at[1] - d.y);
         let (zoom, _) = self.zoom_at(cx, cam, planar.hypot(d.z - cam.height));
-        self.vantage_at_zoom(at, zoom)
+        if fresh(self.vantage_at_zoom(at, zoom)) {
+            return Some(zoom);
+        }
+        if cx.config.sensing(self.label).is_some() || planar <= 0.0 {
+            return None;
+        }
+        let max_zoom = cam.max_zoom.max(1.0);
+        let [lo, hi] = [window[0].max(planar / max_zoom), window[1].min(planar)];
+        if lo > hi {
+            return None;
+        }
+        let usual = planar / zoom;
+        let step = (window[1] - window[0]).max(0.0) / 8.0;
+        let steps = if step > 0.0 {
+            ((hi - lo) / step).floor() as usize
+        } else {
+            0
+        };
+        (0..=steps)
+            .map(|k| lo + k as f64 * step)
+            .map(|r| (r, planar / r))
+            .filter(|&(_, z)| fresh(self.vantage_at_zoom(at, z)))
+            .min_by(|a, b| (a.0 - usual).abs().total_cmp(&(b.0 - usual).abs()))
+            .map(|(_, z)| z)
     }
 
-    /// The vantage point of a look at the sighting from `at` through zoom `zoom` (see
-    /// [`Self::vantage`]).
+    /// The vantage point of a look at the sighting from `at` through zoom `zoom`, as a
+    /// correlated detector sees it (Velez et al. 2012): the planar range divided by the zoom
+    /// (a zoomed image sees as from nearer) and the bearing of `at` from the sighting, radians.
     pub fn vantage_at_zoom(&self, at: [f64; 2], zoom: f64) -> [f64; 2] {
         let d = self.sighting.pose;
         let (dx, dy) = (at[0] - d.x, at[1] - d.y);
         [dx.hypot(dy) / zoom, dy.atan2(dx)]
+    }
+
+    /// The view of the last look ([`Closer::look`]) and the point it was centred on.
+    pub fn last(&self) -> Option<&(ViewCone, avs_robot::Point3)> {
+        self.last.as_ref()
     }
 
     /// The most confident closer detection so far (the pose a verifier reports), if any.

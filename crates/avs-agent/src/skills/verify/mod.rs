@@ -7,7 +7,8 @@
 //!   with a trained sensor model ([`model`]);
 //! * `sequential` (also when a class has no verifier block) — closer looks until the
 //!   Bayes-optimal policy of the knowledge's binary detector decides, from the candidate's
-//!   prior, with a wrong decision priced as a failed search ([`sequential`]);
+//!   prior, with a wrong decision priced as a failed search; with a `model`, each look's
+//!   detector score moves the belief by that sensor model instead of its hit ([`sequential`]);
 //! * `count` — the fixed rule: a few closer looks, accepted on enough detections ([`count`]).
 //!
 //! Each candidate is a `candidate created` trace event (its prior, the verifier) and ends in a
@@ -166,14 +167,15 @@ pub(crate) fn verify<R: Robot + ?Sized>(
                     run.observe(format!(
                         "{why}: the {label} is verified by its closer looks' detections instead"
                     ));
-                    sequential::sequential(cx, mem, body, run, &c)?
+                    sequential::sequential(cx, mem, body, run, &c, None)?
                 }
             }
         }
         Some(s) if s.strategy == VerifierStrategy::Count => {
             count::count_rule(cx, mem, body, run, &c)?
         }
-        _ => sequential::sequential(cx, mem, body, run, &c)?,
+        Some(s) => sequential::sequential(cx, mem, body, run, &c, s.model.as_deref())?,
+        None => sequential::sequential(cx, mem, body, run, &c, None)?,
     };
     let accepted = verdict.confirmed.is_some();
     if accepted {
@@ -210,6 +212,12 @@ pub(crate) fn check_verifier(
     label: &str,
     spec: &avs_format::verifier::VerifierSpec,
 ) -> Result<(), AgentError> {
+    if !spec.strategy.uses_model() {
+        return match spec.model.as_deref() {
+            Some(name) => model::score_model(knowledge, label, name).map(|_| ()),
+            None => Ok(()),
+        };
+    }
     model::build(
         knowledge,
         label,

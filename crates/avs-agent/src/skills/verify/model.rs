@@ -107,25 +107,13 @@ pub(crate) fn build(
         class: label.to_string(),
         message,
     };
-    let class = knowledge
-        .class(label)
-        .ok_or_else(|| bad("the class is not in the knowledge file".into()))?;
     let name = spec.model.as_deref().ok_or_else(|| {
         bad(format!(
             "the `{}` verifier needs a model",
             spec.strategy.name()
         ))
     })?;
-    let trained = knowledge
-        .sensor_model(name)
-        .ok_or_else(|| bad(format!("no sensor model named `{name}`")))?;
-    let range = class.detection_range[1];
-    if !(range.is_finite() && range > 0.0) {
-        return Err(bad(format!(
-            "detection_range[1] = {range}: expected a positive range"
-        )));
-    }
-    let mut scaled = trained.scaled(range / trained.max_range);
+    let (mut scaled, range) = scaled_spec(knowledge, label, name)?;
     let verifier = match spec.strategy {
         VerifierStrategy::Count | VerifierStrategy::Sequential => {
             return Err(bad(format!(
@@ -158,7 +146,49 @@ pub(crate) fn build(
             ..RtbssConfig::default()
         }),
     };
-    let model = SensorModel::from_spec(&scaled).map_err(|e| bad(e.to_string()))?;
+    let (model, min_trained) = from_scaled(label, &scaled)?;
+    Ok(Built {
+        model,
+        verifier,
+        min_trained,
+    })
+}
+
+/// The knowledge's sensor model `name` scaled to class `label` (module docs, "The model at
+/// the class's scale"), with the class's detection range, metres.
+fn scaled_spec(
+    knowledge: &avs_format::knowledge::Knowledge,
+    label: &str,
+    name: &str,
+) -> Result<(avs_format::verifier::SensorModelSpec, f64), AgentError> {
+    let bad = |message: String| AgentError::Verifier {
+        class: label.to_string(),
+        message,
+    };
+    let class = knowledge
+        .class(label)
+        .ok_or_else(|| bad("the class is not in the knowledge file".into()))?;
+    let trained = knowledge
+        .sensor_model(name)
+        .ok_or_else(|| bad(format!("no sensor model named `{name}`")))?;
+    let range = class.detection_range[1];
+    if !(range.is_finite() && range > 0.0) {
+        return Err(bad(format!(
+            "detection_range[1] = {range}: expected a positive range"
+        )));
+    }
+    Ok((trained.scaled(range / trained.max_range), range))
+}
+
+/// The sensor model of a scaled spec, with the shortest vantage range of its training points.
+fn from_scaled(
+    label: &str,
+    scaled: &avs_format::verifier::SensorModelSpec,
+) -> Result<(SensorModel, f64), AgentError> {
+    let model = SensorModel::from_spec(scaled).map_err(|e| AgentError::Verifier {
+        class: label.to_string(),
+        message: e.to_string(),
+    })?;
     let min_trained = scaled
         .object
         .points
@@ -166,11 +196,18 @@ pub(crate) fn build(
         .chain(&scaled.no_object.points)
         .map(|p| p[0])
         .fold(scaled.max_range, f64::min);
-    Ok(Built {
-        model,
-        verifier,
-        min_trained,
-    })
+    Ok((model, min_trained))
+}
+
+/// The knowledge's sensor model `name` for class `label`, at the class's scale: what the
+/// `sequential` verifier weighs scores with when its block names a model.
+pub(crate) fn score_model(
+    knowledge: &avs_format::knowledge::Knowledge,
+    label: &str,
+    name: &str,
+) -> Result<SensorModel, AgentError> {
+    let (scaled, _) = scaled_spec(knowledge, label, name)?;
+    Ok(from_scaled(label, &scaled)?.0)
 }
 
 /// The planners' terrain in the agent: paths on the known map ([`GridTerrain`]) and the
