@@ -198,7 +198,8 @@ fn next_step(
         .iter()
         .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
         .map(|&(r, _)| r);
-    let nearest_ph = best_placeholder(mem, at, |_| 0.0);
+    // Path searches to every placeholder: only for the strategies that go to the nearest.
+    let nearest_ph = || best_placeholder(mem, at, |_| 0.0);
     let here_room = mem.current_room();
     if strategy == Strategy::Informed {
         if let Some(next) = informed_step(mem, at, region, &pending) {
@@ -210,10 +211,10 @@ fn next_step(
             if let Some(r) = here_room.filter(|r| pending.iter().any(|(p, _)| p == r)) {
                 return Some(Next::Cover(r));
             }
-            nearest_ph.or(nearest_room.map(Next::Cover))
+            nearest_ph().or(nearest_room.map(Next::Cover))
         }
         Strategy::Planner => likeliest_per_metre(mem, at, &class.name, &open),
-        _ => nearest_room.map(Next::Cover).or(nearest_ph),
+        _ => nearest_room.map(Next::Cover).or_else(nearest_ph),
     }
 }
 
@@ -262,22 +263,16 @@ fn likeliest_per_metre(
             p * u / (d + u * per_share(priced)).max(1e-6),
         )
     });
-    let placeholders = mem
-        .phs
-        .iter()
-        .filter(|(k, _)| mem.registry[*k].explored.is_none())
-        .filter_map(|(k, c)| {
-            let d = mem.path_len(at, c.pos, true)?;
-            let p = cm
-                .p_object_behind_placeholder(avs_concepts::PlaceholderId(c.cm_id), label)
-                .unwrap_or(1.0);
-            let id = mem.registry[*k].id;
-            Some((
-                Next::Explore(id, c.pos),
-                d,
-                p / (d + per_share(typical)).max(1e-6),
-            ))
-        });
+    let placeholders = open_placeholders(mem, at).map(|(id, c, d)| {
+        let p = cm
+            .p_object_behind_placeholder(avs_concepts::PlaceholderId(c.cm_id), label)
+            .unwrap_or(1.0);
+        (
+            Next::Explore(id, c.pos),
+            d,
+            p / (d + per_share(typical)).max(1e-6),
+        )
+    });
     let rank = |n: &Next| match n {
         Next::Cover(r) => (0, r.0),
         Next::Explore(id, _) => (1, *id as u64),
@@ -296,16 +291,22 @@ fn likeliest_per_metre(
 /// Explore the open placeholder minimising the path from `at` to it plus `beyond(its
 /// position)`; ties go to the placeholder whose plan name sorts first.
 fn best_placeholder(mem: &Memory, at: [f64; 2], beyond: impl Fn([f64; 2]) -> f64) -> Option<Next> {
+    open_placeholders(mem, at)
+        .map(|(id, c, l)| (names::placeholder(id), id, c.pos, l + beyond(c.pos)))
+        .min_by(|a, b| a.3.total_cmp(&b.3).then(a.0.cmp(&b.0)))
+        .map(|(_, id, p, _)| Next::Explore(id, p))
+}
+
+/// The placeholders not explored yet that a known path from `at` reaches: stable id, the
+/// placeholder, path length.
+fn open_placeholders<'m>(
+    mem: &'m Memory,
+    at: [f64; 2],
+) -> impl Iterator<Item = (usize, &'m crate::memory::Cand, f64)> + 'm {
     mem.phs
         .iter()
         .filter(|(k, _)| mem.registry[*k].explored.is_none())
-        .filter_map(|(k, c)| {
-            let l = mem.path_len(at, c.pos, true)? + beyond(c.pos);
-            let id = mem.registry[*k].id;
-            Some((names::placeholder(id), id, c.pos, l))
-        })
-        .min_by(|a, b| a.3.total_cmp(&b.3).then(a.0.cmp(&b.0)))
-        .map(|(_, id, p, _)| Next::Explore(id, p))
+        .filter_map(move |(k, c)| Some((mem.registry[*k].id, c, mem.path_len(at, c.pos, true)?)))
 }
 
 /// The informed reference's step towards the target's room `region`: the nearest room not yet
