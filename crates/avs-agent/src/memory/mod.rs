@@ -187,6 +187,8 @@ pub(crate) struct Memory {
     /// its knowledge-file spec once (a GP with up to 2000 training points per hypothesis), not
     /// once per candidate.
     pub verifiers: BTreeMap<String, std::sync::Arc<crate::skills::verify::Built>>,
+    /// The sensor models the `sequential` verifier weighs scores with, built so far, by class.
+    pub score_models: BTreeMap<String, std::sync::Arc<avs_verify::sensor::SensorModel>>,
     /// The robot's position as last seen.
     pub at: [f64; 2],
     /// The doors the robot has reported, each as last seen ([`avs_robot::MapUpdate::doors`]).
@@ -364,6 +366,7 @@ impl Memory {
             rejected: Vec::new(),
             sightings: Vec::new(),
             verifiers: BTreeMap::new(),
+            score_models: BTreeMap::new(),
             at: [0.0, 0.0],
             doors: Vec::new(),
             door_news: Vec::new(),

@@ -130,9 +130,17 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
 ) -> Result<Verdict, AgentError> {
     let (label, d, prior) = (c.label, c.sighting, c.prior);
     let (model, costs) = model(cx, label);
-    let scorer = scored
-        .map(|name| super::model::score_model(cx.knowledge, label, name))
-        .transpose()?;
+    let scorer = match scored {
+        Some(name) => Some(match mem.score_models.get(label) {
+            Some(m) => m.clone(),
+            None => {
+                let m = std::sync::Arc::new(super::model::score_model(cx.knowledge, label, name)?);
+                mem.score_models.insert(label.to_string(), m.clone());
+                m
+            }
+        }),
+        None => None,
+    };
     let mut scores = scorer
         .as_ref()
         .map(|m| avs_verify::planner::Candidate::new([d.pose.x, d.pose.y], None, m, prior));
