@@ -310,6 +310,37 @@ impl Closer<'_> {
             .map(|(_, z)| z)
     }
 
+    /// Get a look with a vantage point `fresh` accepts: the zoom for it from where the robot
+    /// stands ([`Self::fresh_zoom`] over the ranges `window`), else from the nearest standpoint
+    /// that has one, walked to ([`Self::walk_to_stand`]). The robot stops a little off a
+    /// standpoint, and a new range there may be a near thing: then the next standpoint is
+    /// tried, each once. `None` when no standpoint is left.
+    pub fn to_fresh_vantage<R: Robot + ?Sized>(
+        &self,
+        cx: Ctx,
+        mem: &mut Memory,
+        body: &mut Body<R>,
+        run: &mut Run,
+        window: [f64; 2],
+        fresh: impl Fn([f64; 2]) -> bool + Copy,
+    ) -> Result<Option<f64>, AgentError> {
+        let cam = body.camera();
+        let from = |p: [f64; 2]| self.fresh_zoom(cx, &cam, p, window, fresh);
+        let here = body.pose();
+        let mut zoom = from([here.x, here.y]);
+        let mut tried: Vec<[f64; 2]> = Vec::new();
+        while zoom.is_none() {
+            let untried = |p: [f64; 2]| !tried.contains(&p) && from(p).is_some();
+            let Some(p) = self.walk_to_stand(cx, mem, body, run, untried)? else {
+                break;
+            };
+            tried.push(p);
+            let here = body.pose();
+            zoom = from([here.x, here.y]);
+        }
+        Ok(zoom)
+    }
+
     /// The vantage point of a look at the sighting from `at` through zoom `zoom`, as a
     /// correlated detector sees it (Velez et al. 2012): the planar range divided by the zoom
     /// (a zoomed image sees as from nearer) and the bearing of `at` from the sighting, radians.

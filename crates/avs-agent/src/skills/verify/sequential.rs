@@ -184,7 +184,6 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
             .map_or(1.0, |c| c.detection_range[1]);
         [k.range_share * range, k.aspect_deg.to_radians()]
     });
-    let cam = body.camera();
     // The ranges (as the detector sees them) a fresh vantage point may be taken at: where a
     // hit counts (the recognition range), or with scores wherever the detector scores the
     // class (module docs, "Scores").
@@ -219,24 +218,7 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
                 let mut zoom = None;
                 if let Some(l) = lengths {
                     let fresh = |v: [f64; 2]| vantages.iter().all(|&u| apart(u, v, l));
-                    let from = |p: [f64; 2]| closer.fresh_zoom(cx, &cam, p, window, fresh);
-                    let here = body.pose();
-                    zoom = from([here.x, here.y]);
-                    if zoom.is_none() {
-                        // The nearest standpoint with a new vantage point through some
-                        // zoom; the robot stops a little off it, and a new range there may
-                        // be a near thing: then the next one (each standpoint tried once).
-                        let mut tried: Vec<[f64; 2]> = Vec::new();
-                        while zoom.is_none() {
-                            let untried = |p: [f64; 2]| !tried.contains(&p) && from(p).is_some();
-                            let Some(p) = closer.walk_to_stand(cx, mem, body, run, untried)? else {
-                                break;
-                            };
-                            tried.push(p);
-                            let here = body.pose();
-                            zoom = from([here.x, here.y]);
-                        }
-                    }
+                    zoom = closer.to_fresh_vantage(cx, mem, body, run, window, fresh)?;
                     let Some(z) = zoom else {
                         // No vantage point left that says anything new: decide now.
                         note = "; no new vantage point left";
@@ -250,20 +232,7 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
                 hits += usize::from(seen);
                 match scores.as_mut() {
                     Some(cand) => match read_score(body, run, label, &closer)? {
-                        Read::Score(z, cone) => {
-                            cand.zoom = cone.zoom.max(1.0);
-                            cand.observe([cone.pose.x, cone.pose.y], z).map_err(|e| {
-                                AgentError::Verifier {
-                                    class: label.to_string(),
-                                    message: e.to_string(),
-                                }
-                            })?;
-                            belief = cand.belief;
-                            run.observe(format!(
-                                "the {label}'s score {z:.2} (zoom {:.1}): belief {belief:.3}",
-                                cone.zoom
-                            ));
-                        }
+                        Read::Score(z, cone) => belief = weigh(run, label, cand, z, &cone)?,
                         Read::Unseen => {}
                         Read::Unsupported(why) => {
                             run.observe(format!(
@@ -329,6 +298,29 @@ fn read_score<R: Robot + ?Sized>(
             }
         },
     )
+}
+
+/// Move candidate `cand`'s belief by score `z` of a look through `cone` (module docs,
+/// "Scores"), noted in the trace; the new belief.
+fn weigh(
+    run: &mut Run,
+    label: &str,
+    cand: &mut avs_verify::planner::Candidate,
+    z: f64,
+    cone: &ViewCone,
+) -> Result<f64, AgentError> {
+    cand.zoom = cone.zoom.max(1.0);
+    cand.observe([cone.pose.x, cone.pose.y], z)
+        .map_err(|e| AgentError::Verifier {
+            class: label.to_string(),
+            message: e.to_string(),
+        })?;
+    let belief = cand.belief;
+    run.observe(format!(
+        "the {label}'s score {z:.2} (zoom {:.1}): belief {belief:.3}",
+        cone.zoom
+    ));
+    Ok(belief)
 }
 
 /// The binary detector hidden in a scored look at candidate `cand` from vantage `v`
