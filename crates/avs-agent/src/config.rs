@@ -672,6 +672,53 @@ mod tests {
     }
 
     #[test]
+    fn a_looks_chance_to_find_is_the_share_measured_at_its_distance_through_the_nearest_level() {
+        let shares = |zoom: f64, found: Vec<f64>| FoundByDistance {
+            zoom,
+            distances: (1..=found.len()).map(|i| 0.25 * i as f64 * zoom).collect(),
+            found,
+            looks: 0,
+        };
+        let m = MeasuredSensing {
+            class: "whiteboardmarker".into(),
+            detection_range: [0.25, 0.75],
+            ranges_by_zoom: vec![(1.0, [0.25, 0.75]), (4.0, [1.0, 1.73])],
+            false_negative: 0.13,
+            false_positive: 0.001,
+            repeat_correlation: 0.0,
+            found_by_zoom: vec![
+                shares(1.0, vec![0.9, 0.85, 0.55, 0.1]),
+                shares(4.0, vec![0.9, 0.35, 0.05]),
+            ],
+        };
+        let close = |a: Option<f64>, b: f64| a.is_some_and(|a| (a - b).abs() < 1e-12);
+        // Between the measured distances: linear (zoom 4 measured at 1, 2 and 3 m).
+        assert!(close(m.found_share(4.0, 1.5), 0.625));
+        // Near the far end of zoom 4's range a look finds the marker about half the time,
+        // far below the range's mean 1 − FN = 0.87.
+        assert!(m
+            .found_share(4.0, 1.73)
+            .is_some_and(|p| (0.45..0.55).contains(&p)));
+        // A zoom between levels reads the nearest level; outside the measured distances the
+        // nearest measured share.
+        assert!(close(m.found_share(3.3, 1.0), 0.9));
+        assert!(close(m.found_share(1.0, 0.1), 0.9));
+        assert!(close(m.found_share(1.0, 9.0), 0.1));
+        // Shares of 20 looks each, by the rule of succession: 20 of 20 is 21 / 22, not 1.
+        let mut counted = m.clone();
+        counted.found_by_zoom[0].looks = 20;
+        counted.found_by_zoom[0].found[0] = 1.0;
+        assert!(close(counted.found_share(1.0, 0.25), 21.0 / 22.0));
+        assert!(close(counted.found_share(1.0, 1.0), 3.0 / 22.0));
+        // Without kept shares: none.
+        let bare = MeasuredSensing {
+            found_by_zoom: Vec::new(),
+            ..m
+        };
+        assert_eq!(bare.found_share(1.0, 0.5), None);
+    }
+
+    #[test]
     fn the_zoom_for_a_distance_is_the_measured_level_that_holds_it_nearest_its_middle() {
         let m = MeasuredSensing {
             class: "whiteboardmarker".into(),
@@ -679,6 +726,8 @@ mod tests {
             ranges_by_zoom: vec![(1.0, [0.25, 0.75]), (2.0, [0.5, 1.0]), (4.0, [1.0, 2.0])],
             false_negative: 0.15,
             false_positive: 0.01,
+            found_by_zoom: Vec::new(),
+            repeat_correlation: 0.0,
         };
         assert_eq!(m.zoom_at(0.4), Some(1.0));
         // 0.7 m: inside zoom 1's range near its end, in the middle of zoom 2's.
@@ -716,6 +765,53 @@ pub struct MeasuredSensing {
     pub false_negative: f64,
     /// P(a look reports the class | nothing of it is in view).
     pub false_positive: f64,
+    /// The shares found that the ranges were derived from, per zoom level: what one look
+    /// through a level finds at each distance ([`Self::found_share`]). Empty for sensing
+    /// stated without them; then every look in range finds the object at `1 −
+    /// false_negative`.
+    #[serde(default)]
+    pub found_by_zoom: Vec<FoundByDistance>,
+    /// The correlation of two looks' outcomes from one vantage point (the same standpoint,
+    /// zoom and side of the object) when the object is there: 0 when a repeated look is a
+    /// new draw, towards 1 when it repeats the first ([`Self::found_next`]).
+    #[serde(default)]
+    pub repeat_correlation: f64,
+}
+
+/// The share of looks through one zoom level that found the object, per distance: a
+/// measurement of the zoom pipeline (`avs_eval::zoom_sensing`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FoundByDistance {
+    /// The zoom of the looks' first image.
+    pub zoom: f64,
+    /// The distances looked from, metres (3-D, increasing).
+    pub distances: Vec<f64>,
+    /// The share of looks that found the object, per distance.
+    pub found: Vec<f64>,
+    /// The looks per distance the shares were measured with (0: not known).
+    #[serde(default)]
+    pub looks: usize,
+}
+
+impl FoundByDistance {
+    /// The share found at `distance`: linear between the measured distances next to it, the
+    /// nearest measured share outside them; `None` without measurements.
+    pub fn at(&self, distance: f64) -> Option<f64> {
+        let n = self.distances.len().min(self.found.len());
+        if n == 0 || !distance.is_finite() {
+            return None;
+        }
+        let (ds, fs) = (&self.distances[..n], &self.found[..n]);
+        let k = ds.partition_point(|&d| d < distance);
+        Some(if k == 0 {
+            fs[0]
+        } else if k == n {
+            fs[n - 1]
+        } else {
+            let t = (distance - ds[k - 1]) / (ds[k] - ds[k - 1]);
+            fs[k - 1] + t * (fs[k] - fs[k - 1])
+        })
+    }
 }
 
 impl MeasuredSensing {
@@ -741,6 +837,46 @@ impl MeasuredSensing {
             })
             .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0 .0.total_cmp(&b.0 .0)))
             .map(|(level, _)| level)
+    }
+
+    /// P(one look through zoom `zoom` finds the object `distance` metres away (3-D)), as
+    /// measured at the level nearest `zoom` ([`FoundByDistance::at`]); `None` when the
+    /// shares were not kept. A look near the far end of a level's range finds the object
+    /// about half the time, not at the range's mean `1 − false_negative`. A share of `n`
+    /// looks is read by the rule of succession, `(k + 1) / (n + 2)` for `k` found (the
+    /// posterior mean under a uniform prior): 20 of 20 looks do not make a miss impossible
+    /// (a share of unknown looks is read as it is).
+    pub fn found_share(&self, zoom: f64, distance: f64) -> Option<f64> {
+        let m = self.found_by_zoom.iter().min_by(|a, b| {
+            (a.zoom - zoom)
+                .abs()
+                .total_cmp(&(b.zoom - zoom).abs())
+                .then(a.zoom.total_cmp(&b.zoom))
+        })?;
+        let n = m.looks as f64;
+        m.at(distance).map(|share| {
+            if m.looks == 0 {
+                share
+            } else {
+                (share * n + 1.0) / (n + 2.0)
+            }
+        })
+    }
+
+    /// P(the next look from a vantage point finds the object | it is there), after `hits` of
+    /// `looks` earlier looks from that vantage point found it, when one look there finds it
+    /// with probability `share` ([`Self::found_share`]): the vantage point's own chance is
+    /// Beta-distributed around `share` with the measured
+    /// [`repeat_correlation`](Self::repeat_correlation) ρ (α + β = 1/ρ − 1), and this is its
+    /// posterior mean `(α + hits) / (α + β + looks)` — with ρ = 0, `share` whatever the
+    /// earlier looks said; with ρ near 1, the earlier looks from there decide.
+    pub fn found_next(&self, share: f64, hits: usize, looks: usize) -> f64 {
+        let rho = self.repeat_correlation;
+        if looks == 0 || rho.is_nan() || rho <= 0.0 {
+            return share;
+        }
+        let c = (1.0 / rho.min(0.99) - 1.0).max(1e-6);
+        (share * c + hits as f64) / (c + looks as f64)
     }
 }
 

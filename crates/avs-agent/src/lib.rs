@@ -420,7 +420,7 @@ pub mod trace;
 pub mod world_model;
 
 pub use beliefs::Beliefs;
-pub use config::{AgentConfig, MeasuredSensing, Strategy, Tuning};
+pub use config::{AgentConfig, FoundByDistance, MeasuredSensing, Strategy, Tuning};
 pub use error::AgentError;
 pub use executive::Agent;
 pub use reason::{FailedActions, GiveUpReason, Hindrances, MoveFailure, ReplanReason};

@@ -21,7 +21,18 @@
 //! 1 m apart, the whole range of a marker);
 //! the miss rate is one minus the mean share found over it. False alarms: `looks` looks per
 //! class at empty scenes (a background 1–6 m away), the share that recognised the class.
-//! A class whose looks never reach ½ keeps the knowledge's sensing (it is left out).
+//! A class whose looks never reach ½ keeps the knowledge's sensing (it is left out). The
+//! shares themselves are kept in the sensing too (with the looks they were counted from): a
+//! verifier weighs a look by the share measured where it is taken.
+//!
+//! ## Repeated looks
+//! Each look is taken a second time on the same scene — the same object, side, distance and
+//! background, a new image — from a stream of its own ([`REPEAT_STREAM`]), so the first
+//! looks, and the shares and ranges, are unchanged by it. The sensing's
+//! `repeat_correlation` is the correlation of a look's outcome with its repeat's, pooled
+//! over every zoom level and distance (the moment estimate of the intraclass correlation,
+//! each cell centred on its own share): how much a second look from one vantage point says
+//! what the first said.
 
 use avs_agent::MeasuredSensing;
 use avs_format::knowledge::Knowledge;
@@ -145,16 +156,9 @@ impl Robot for SceneRobot<'_> {
     }
 }
 
-/// The share of looks at one zoom that found the object, per distance.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct ZoomMeasurement {
-    /// The zoom of the looks' first image.
-    pub zoom: f64,
-    /// The distances looked from, metres.
-    pub distances: Vec<f64>,
-    /// The share of looks that found the object, per distance.
-    pub found: Vec<f64>,
-}
+/// The share of looks at one zoom that found the object, per distance (the agent's type: the
+/// measurement is kept in the sensing it gives, [`MeasuredSensing::found_by_zoom`]).
+pub type ZoomMeasurement = avs_agent::FoundByDistance;
 
 /// One class's measurement: the share of looks that found the object at each distance, per
 /// zoom level of the camera ([`avs_view::view_zooms`]), and the sensing derived from it.
@@ -193,6 +197,10 @@ pub fn measure(
         })
         .collect();
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    // The repeated looks draw from a stream of their own: the first looks, and so the shares
+    // and ranges, are those measured before repeats were.
+    let mut again = ChaCha8Rng::seed_from_u64(seed);
+    again.set_stream(REPEAT_STREAM);
     let mut out = Vec::new();
     for class in knowledge.object_classes.iter().filter(|c| !c.landmark) {
         let models = [ObjectModel::from_class(class)];
@@ -218,6 +226,9 @@ pub fn measure(
                     .unwrap_or_default()
             };
         let mut by_zoom = Vec::new();
+        // Per look, whether it and its repeat found the object, with the cell's share.
+        let mut pairs: Vec<(bool, bool, usize)> = Vec::new();
+        let mut cell_found: Vec<f64> = Vec::new();
         // A camera at the origin looking along +x at `zoom`.
         let ahead = |zoom: f64| ViewCone::new(Pose2D::new(0.0, 0.0, 0.0), 0.0, 0.0, zoom);
         for zoom in avs_view::view_zooms(camera.max_zoom) {
@@ -245,26 +256,33 @@ pub fn measure(
                         lookalike: false,
                     };
                     let depth = d + rng.gen_range(0.5..2.0);
-                    let faces = object
+                    let faces: Vec<SceneObject> = object
                         .seen_face(model, camera, &cone, &config.image)
                         .into_iter()
                         .collect();
-                    let seen = look(faces, depth, &cone, &mut rng);
-                    let hit = seen.iter().any(|r| {
-                        r.class == class.name
-                            && (r.position.x - centre.x)
-                                .hypot(r.position.y - centre.y)
-                                .hypot(r.position.z - centre.z)
-                                <= FOUND_WITHIN
-                    });
+                    let found_it = |seen: Vec<avs_view::zoom::Recognised>| {
+                        seen.iter().any(|r| {
+                            r.class == class.name
+                                && (r.position.x - centre.x)
+                                    .hypot(r.position.y - centre.y)
+                                    .hypot(r.position.z - centre.z)
+                                    <= FOUND_WITHIN
+                        })
+                    };
+                    let hit = found_it(look(faces.clone(), depth, &cone, &mut rng));
+                    // The same look again: the same scene, from the same vantage point.
+                    let repeat = found_it(look(faces, depth, &cone, &mut again));
+                    pairs.push((hit, repeat, cell_found.len()));
                     hits += usize::from(hit);
                 }
                 found.push(hits as f64 / looks.max(1) as f64);
+                cell_found.push(*found.last().unwrap_or(&0.0));
             }
             by_zoom.push(ZoomMeasurement {
                 zoom,
                 distances: ds,
                 found,
+                looks,
             });
         }
         let mut false_hits = 0usize;
@@ -273,7 +291,11 @@ pub fn measure(
             false_hits += usize::from(!look(Vec::new(), depth, &ahead(1.0), &mut rng).is_empty());
         }
         let false_alarms = false_hits as f64 / looks.max(1) as f64;
-        let sensing = derive(&class.name, &by_zoom, false_alarms);
+        let repeat_correlation = repeat_correlation(&pairs, &cell_found);
+        let sensing = derive(&class.name, &by_zoom, false_alarms).map(|m| MeasuredSensing {
+            repeat_correlation,
+            ..m
+        });
         out.push(ClassMeasurement {
             class: class.name.clone(),
             by_zoom,
@@ -282,6 +304,34 @@ pub fn measure(
         });
     }
     Ok(out)
+}
+
+/// The `ChaCha8Rng` stream (of the calibration's seed) the repeated looks draw from.
+pub const REPEAT_STREAM: u64 = 1;
+
+/// The correlation of a look's outcome and its repeat's from the same vantage point (module
+/// docs, "Repeated looks"): pooled over the cells (a zoom level and a distance), `Σ (h₁ − m)
+/// (h₂ − m) / Σ m (1 − m)`, with `m` the share of the cell's looks and repeats that found the
+/// object (the moment estimate of the intraclass correlation); inside [0, 0.99], 0 when no
+/// cell has both outcomes.
+fn repeat_correlation(pairs: &[(bool, bool, usize)], cell_found: &[f64]) -> f64 {
+    let mut share = vec![(0usize, 0usize); cell_found.len()];
+    for &(a, b, c) in pairs {
+        share[c].0 += usize::from(a) + usize::from(b);
+        share[c].1 += 2;
+    }
+    let m = |c: usize| share[c].0 as f64 / share[c].1.max(1) as f64;
+    let (mut num, mut den) = (0.0, 0.0);
+    for &(a, b, c) in pairs {
+        let mc = m(c);
+        num += (f64::from(u8::from(a)) - mc) * (f64::from(u8::from(b)) - mc);
+        den += mc * (1.0 - mc);
+    }
+    if den > 0.0 {
+        (num / den).clamp(0.0, 0.99)
+    } else {
+        0.0
+    }
 }
 
 /// The run of distances around the best one where the share found is at least ½, its ends
@@ -328,6 +378,8 @@ fn derive(class: &str, by_zoom: &[ZoomMeasurement], false_alarms: f64) -> Option
             .collect(),
         false_negative: (1.0 - mean).clamp(0.01, 0.99),
         false_positive: false_alarms.clamp(0.001, 0.99),
+        found_by_zoom: by_zoom.to_vec(),
+        repeat_correlation: 0.0,
     })
 }
 
@@ -358,6 +410,7 @@ mod tests {
             zoom,
             distances: [0.5, 1.0, 1.5, 2.0, 2.5, 3.0].map(|d| d * zoom).to_vec(),
             found: found.to_vec(),
+            looks: 20,
         };
         let m = [
             at(1.0, &[0.4, 0.6, 0.9, 0.7, 0.3, 0.6]),

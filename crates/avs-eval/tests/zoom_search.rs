@@ -130,3 +130,38 @@ fn the_measured_range_of_a_look_grows_with_the_objects_face_and_is_seeded() {
         assert!((0.0..1.0).contains(&s.false_negative) && (0.0..1.0).contains(&s.false_positive));
     }
 }
+
+#[test]
+fn a_look_repeated_from_the_same_vantage_point_tends_to_repeat_the_first() {
+    // The simulated camera sees an object's side and its distance, and both are the same for
+    // a repeated look: whether the pipeline finds the object depends on them, so a look and
+    // its repeat agree more often than two looks from anywhere in the range would.
+    let (k, _) = inputs();
+    let config = avs_view::zoom::ZoomConfig::default();
+    let m = avs_eval::zoom_sensing::measured_sensing(&k, &Camera::default(), &config).unwrap();
+    let rho = |class: &str| {
+        m.iter()
+            .find(|s| s.class == class)
+            .unwrap_or_else(|| panic!("{class} not measured: {m:?}"))
+            .repeat_correlation
+    };
+    // A marker (13 × 2 cm) shows its long side or its end depending on the side it is seen
+    // from; a mug (9 × 9 cm) looks alike from every side.
+    assert!(rho("whiteboardmarker") > 0.1, "{m:?}");
+    assert!(rho("whiteboardmarker") > rho("mug") + 0.1, "{m:?}");
+    for s in &m {
+        eprintln!(
+            "{}: repeat correlation {:.3}",
+            s.class, s.repeat_correlation
+        );
+        assert!((0.0..=0.99).contains(&s.repeat_correlation), "{s:?}");
+        // The shares behind the ranges are kept, per zoom level, with their looks.
+        assert!(!s.found_by_zoom.is_empty() && s.found_by_zoom.iter().all(|f| f.looks > 0));
+        // A miss from a vantage point makes the next look from there less likely to find it.
+        if s.repeat_correlation > 0.0 {
+            let share = s.found_share(1.0, s.detection_range[0]).unwrap();
+            assert!(s.found_next(share, 0, 1) < share, "{s:?}");
+            assert!(s.found_next(share, 1, 1) > share, "{s:?}");
+        }
+    }
+}

@@ -63,14 +63,14 @@ impl Closer<'_> {
     /// ring around the sighting that has one (the middle of the class's recognition range,
     /// its far end, halfway to the detection range's far end; each no closer than the
     /// camera's tilt allows), at one of `verify_bearings` bearings, on a free cell the robot
-    /// fits on, with a clear line of sight.
-    fn nearest_stand<R: Robot + ?Sized>(
+    /// fits on, with a clear line of sight; with the length of the path there, metres.
+    pub fn nearest_stand<R: Robot + ?Sized>(
         &self,
         cx: Ctx,
         mem: &Memory,
         body: &Body<R>,
         wanted: impl Fn([f64; 2]) -> bool,
-    ) -> Option<[f64; 2]> {
+    ) -> Option<([f64; 2], f64)> {
         let (t, d, class) = (cx.tuning(), self.sighting, &self.class);
         let target = [d.pose.x, d.pose.y];
         let here = body.pose();
@@ -128,7 +128,7 @@ impl Closer<'_> {
                     break;
                 }
             }
-            best.map(|(p, _)| p)
+            best
         })
     }
 
@@ -143,13 +143,26 @@ impl Closer<'_> {
         run: &mut Run,
         wanted: impl Fn([f64; 2]) -> bool,
     ) -> Result<Option<[f64; 2]>, AgentError> {
-        let Some(p) = self.nearest_stand(cx, mem, body, wanted) else {
+        let Some((p, _)) = self.nearest_stand(cx, mem, body, wanted) else {
             return Ok(None);
         };
+        self.go_to_stand(mem, body, run, p)?;
+        Ok(Some(p))
+    }
+
+    /// Walk to standpoint `p`; a failed walk is observed in the trace (the looks are then
+    /// taken from where the robot stopped).
+    pub fn go_to_stand<R: Robot + ?Sized>(
+        &self,
+        mem: &mut Memory,
+        body: &mut Body<R>,
+        run: &mut Run,
+        p: [f64; 2],
+    ) -> Result<(), AgentError> {
         if let Err(e) = body.go_to(mem, p)? {
             run.observe(format!("on the way to verify the {}: {e}", self.label));
         }
-        Ok(Some(p))
+        Ok(())
     }
 
     /// One look from where the robot stands, centred on where the object is best estimated
@@ -194,15 +207,13 @@ impl Closer<'_> {
         // sighting 0.2–0.35 m from the real object found it in 0.58 of them, against 0.79
         // within 0.1 m. The candidate stays the sighting: a hit must lie within
         // `confirm_radius` of it.
-        let centre = self.best.as_ref().map_or(d.pose, |b| b.pose);
+        let centre = self.centre();
         let cam = body.camera();
         let pose = body.pose();
         let eye = [pose.x, pose.y, cam.height];
-        let (dx, dy) = (centre.x - pose.x, centre.y - pose.y);
-        let dz = centre.z - cam.height;
         let (pan, tilt) = cam.aim(pose, centre);
         let [lo, hi] = self.class.recognition_range;
-        let away = dx.hypot(dy).hypot(dz);
+        let away = distance(eye, centre);
         let (chosen, window) = self.zoom_at(cx, &cam, away);
         let (zoom, window) = match zoom {
             Some(z) => (z.clamp(1.0, cam.max_zoom.max(1.0)), None),
@@ -248,6 +259,24 @@ impl Closer<'_> {
             keep_best(&mut self.best, e.clone());
         }
         seen
+    }
+
+    /// Where the next look is centred: the most confident closer detection so far, else the
+    /// sighting (see [`Self::look_through`]).
+    fn centre(&self) -> avs_robot::Point3 {
+        self.best.as_ref().map_or(self.sighting.pose, |b| b.pose)
+    }
+
+    /// The zoom and the distance (3-D, metres) of the look [`Self::look`] would take from
+    /// where the robot stands at `pose`.
+    pub fn next_look(
+        &self,
+        cx: Ctx,
+        cam: &avs_robot::Camera,
+        pose: avs_robot::Pose2D,
+    ) -> (f64, f64) {
+        let away = distance([pose.x, pose.y, cam.height], self.centre());
+        (self.zoom_at(cx, cam, away).0, away)
     }
 
     /// The zoom of a look at something `away` metres from the camera, and with measured
@@ -355,6 +384,14 @@ impl Closer<'_> {
         self.last.as_ref()
     }
 
+    /// The zoom and the distance (3-D, metres) of the last look, taken by a camera at
+    /// `height`.
+    pub fn last_look(&self, height: f64) -> Option<(f64, f64)> {
+        self.last
+            .as_ref()
+            .map(|(cone, c)| (cone.zoom, distance([cone.pose.x, cone.pose.y, height], *c)))
+    }
+
     /// The most confident closer detection so far (the pose a verifier reports), if any.
     pub fn best(&self) -> Option<&Detection> {
         self.best.as_ref()
@@ -373,4 +410,9 @@ fn keep_best(best: &mut Option<Detection>, e: Detection) {
     if best.as_ref().is_none_or(|c| c.confidence < e.confidence) {
         *best = Some(e);
     }
+}
+
+/// The distance from the camera at `eye` to `p`, metres.
+fn distance(eye: [f64; 3], p: avs_robot::Point3) -> f64 {
+    (p.x - eye[0]).hypot(p.y - eye[1]).hypot(p.z - eye[2])
 }

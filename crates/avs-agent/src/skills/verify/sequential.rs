@@ -9,6 +9,25 @@
 //!   1 − `RATE_FLOOR`], the floor the zoom pipeline's calibration also keeps: a rate of exactly
 //!   0 would make one hit proof. (With the zoom pipeline's measured rates, no false alarm in 20
 //!   looks per class, two hits then decide from a 1 % prior.)
+//! * **Measured looks, where they are taken.** With the zoom pipeline's measurements kept
+//!   ([`crate::MeasuredSensing::found_by_zoom`]), `P(hit | object)` of a look is the share of
+//!   the calibration's looks that found the class at that look's zoom and distance
+//!   ([`crate::MeasuredSensing::found_share`]), not the mean over the range: a floor marker
+//!   seen from 1.7 m through zoom 4 (as near as the camera's tilt lets it look) is found about
+//!   half the time, and two misses there had sunk real markers from a prior of 0.1 to 0.002
+//!   at the mean's 0.87. And a look repeated from one vantage point (the same standpoint and
+//!   zoom) is not a new draw: whether the pipeline finds an object depends on the side and
+//!   the distance it is seen from, which a repeat shares. The calibration measures how much
+//!   (`avs_eval::zoom_sensing`, "Repeated looks": the correlation ρ of a look's and its
+//!   repeat's outcomes; 0.30 for the marker, whose end shows from some sides, 0.00 for the
+//!   mug), and the vantage point's own chance is read as Beta-distributed around the share
+//!   with that correlation: the next look from there finds the object with the posterior
+//!   mean ([`crate::MeasuredSensing::found_next`]), which falls with every miss from there.
+//!   The next look is priced at that chance; when a look from the nearest standpoint not yet
+//!   looked from (a new draw at the share measured there) lowers the expected cost of
+//!   deciding by more than the walk, the robot walks there first ([`fresh_stand`]; each
+//!   standpoint once). Velez et al.'s point, for the pipeline: a second look from where the
+//!   robot stands is worth less than the first.
 //! * **What counts as a hit**: a detection of the class within `confirm_radius` of the
 //!   sighting whose estimated distance lies in the class's recognition range (scaled by the
 //!   look's zoom), where the detector recognises rather than guesses; the looks are centred
@@ -90,7 +109,7 @@ use crate::run::Run;
 use crate::skills::Ctx;
 use crate::AgentError;
 use avs_robot::{FailureReason, Robot, ViewCone};
-use avs_verify::sequential::{decide, BinaryLooks, Decision, StopCosts};
+use avs_verify::sequential::{decide, solve, BinaryLooks, Decision, StopCosts};
 
 /// A look's hit rates are kept at least this far from 0 and 1.
 const RATE_FLOOR: f64 = 1e-3;
@@ -116,6 +135,115 @@ fn model(cx: Ctx, label: &str) -> (BinaryLooks, StopCosts) {
         wrong_reject: failure,
     };
     (looks, costs)
+}
+
+/// `model` for a look through zoom `zoom` at the sighting `away` metres (3-D) from the
+/// camera, after `earlier` = (hits, looks) from the same vantage point: with the zoom
+/// pipeline's shares found kept, P(hit | object) is the share measured at that zoom and
+/// distance ([`crate::MeasuredSensing::found_share`]), moved by the earlier looks from there
+/// by the measured correlation of repeated looks ([`crate::MeasuredSensing::found_next`];
+/// module docs, "The detector"), else `model`'s.
+fn at_look(
+    cx: Ctx,
+    label: &str,
+    model: BinaryLooks,
+    (zoom, away): (f64, f64),
+    (hits, looks): (usize, usize),
+) -> BinaryLooks {
+    let Some(m) = cx.config.sensing(label) else {
+        return model;
+    };
+    match m.found_share(zoom, away) {
+        Some(p) => BinaryLooks {
+            hit_if_object: m
+                .found_next(p, hits, looks)
+                .clamp(RATE_FLOOR, 1.0 - RATE_FLOOR),
+            ..model
+        },
+        None => model,
+    }
+}
+
+/// Walk to the nearest standpoint not looked from or walked to yet (`walked`) when a look
+/// from there pays for the walk: the least expected cost of deciding from belief `belief`
+/// with `left` looks of the model there (a look from a new vantage point, [`at_look`]) plus
+/// the walk, below that with the looks `here` (the next look from where the robot stands).
+/// Whether the robot walked.
+#[allow(clippy::too_many_arguments)]
+fn fresh_stand<R: Robot + ?Sized>(
+    cx: Ctx,
+    mem: &mut Memory,
+    body: &mut Body<R>,
+    run: &mut Run,
+    closer: &super::closer::Closer,
+    (label, model, costs): (&str, BinaryLooks, StopCosts),
+    belief: f64,
+    left: usize,
+    here: BinaryLooks,
+    taken: &Vantages,
+    walked: &mut Vec<[f64; 2]>,
+) -> Result<bool, AgentError> {
+    if !cx
+        .config
+        .sensing(label)
+        .is_some_and(|m| m.repeat_correlation > 0.0)
+    {
+        return Ok(false);
+    }
+    let now = body.pose();
+    let near = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]) <= SAME_STANDPOINT;
+    let new = |p: [f64; 2]| {
+        !near(p, [now.x, now.y])
+            && !walked.iter().any(|&w| near(p, w))
+            && !taken.0.iter().any(|v| near(p, v.0))
+    };
+    let Some((p, walk)) = closer.nearest_stand(cx, mem, body, new) else {
+        return Ok(false);
+    };
+    let cam = body.camera();
+    let there = closer.next_look(cx, &cam, avs_robot::Pose2D::new(p[0], p[1], now.yaw));
+    let fresh = at_look(cx, label, model, there, (0, 0));
+    let (cost_there, step) = solve(belief, left, fresh, costs);
+    let (cost_here, _) = solve(belief, left, here, costs);
+    if step != Decision::Look || walk + cost_there >= cost_here {
+        return Ok(false);
+    }
+    walked.push(p);
+    closer.go_to_stand(mem, body, run, p)?;
+    Ok(true)
+}
+
+/// Two standpoints this close (metres) are one vantage point.
+const SAME_STANDPOINT: f64 = 0.05;
+
+/// The closer looks taken so far by vantage point — a standpoint and a zoom — with the hits
+/// and looks from each (module docs, "The detector").
+#[derive(Default)]
+struct Vantages(Vec<([f64; 2], f64, usize, usize)>);
+
+impl Vantages {
+    /// The (hits, looks) from standpoint `at` through zoom `zoom`.
+    fn tally(&self, at: [f64; 2], zoom: f64) -> (usize, usize) {
+        self.0
+            .iter()
+            .find(|v| Self::same(v, at, zoom))
+            .map_or((0, 0), |v| (v.2, v.3))
+    }
+
+    /// Count a look from `at` through `zoom` that found the object or not.
+    fn record(&mut self, at: [f64; 2], zoom: f64, hit: bool) {
+        match self.0.iter_mut().find(|v| Self::same(v, at, zoom)) {
+            Some(v) => {
+                v.2 += usize::from(hit);
+                v.3 += 1;
+            }
+            None => self.0.push((at, zoom, usize::from(hit), 1)),
+        }
+    }
+
+    fn same(v: &([f64; 2], f64, usize, usize), at: [f64; 2], zoom: f64) -> bool {
+        (v.0[0] - at[0]).hypot(v.0[1] - at[1]) <= SAME_STANDPOINT && (v.1 - zoom).abs() < 1e-9
+    }
 }
 
 /// Verify candidate `c` from its prior (module docs); with `scored`, the name of the sensor
@@ -198,6 +326,8 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
     // The views that make sightings are unzoomed (the paper's view cones).
     let mut vantages = vec![closer.vantage_at_zoom(sighted_from, 1.0)];
     let (mut hits, mut looks) = (0, 0);
+    let mut taken = Vantages::default();
+    let mut walked: Vec<[f64; 2]> = Vec::new();
     let mut belief = prior;
     let mut note = "";
     let accepted = loop {
@@ -209,7 +339,32 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
                 let v = cand.vantage([here.x, here.y]);
                 quantised(cand, &v).unwrap_or(model)
             }
-            None => model,
+            None => {
+                let here = body.pose();
+                let (zoom, away) = closer.next_look(cx, &body.camera(), here);
+                let earlier = taken.tally([here.x, here.y], zoom);
+                let priced = at_look(cx, label, model, (zoom, away), earlier);
+                // Looks repeated from here may say less than one from a standpoint not looked
+                // from yet: walk there when that pays (module docs, "The detector").
+                if lengths.is_none()
+                    && fresh_stand(
+                        cx,
+                        mem,
+                        body,
+                        run,
+                        &closer,
+                        (label, model, costs),
+                        belief,
+                        budget - looks,
+                        priced,
+                        &taken,
+                        &mut walked,
+                    )?
+                {
+                    continue;
+                }
+                priced
+            }
         };
         match decide(belief, budget - looks, priced, costs) {
             Decision::Accept => break true,
@@ -230,6 +385,17 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
                 looks += 1;
                 let seen = closer.look_through(cx, body, run, true, zoom).is_some();
                 hits += usize::from(seen);
+                // The look as it was taken: its zoom, its distance and the earlier looks
+                // from its vantage point decide what a miss says.
+                let looked = match (closer.last(), closer.last_look(body.camera().height)) {
+                    (Some((cone, _)), Some(look)) => {
+                        let at = [cone.pose.x, cone.pose.y];
+                        let earlier = taken.tally(at, look.0);
+                        taken.record(at, look.0, seen);
+                        at_look(cx, label, model, look, earlier)
+                    }
+                    _ => model,
+                };
                 match scores.as_mut() {
                     Some(cand) => match read_score(body, run, label, &closer)? {
                         Read::Score(z, cone) => belief = weigh(run, label, cand, z, &cone)?,
@@ -239,10 +405,10 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
                                 "{why}: the {label} is verified by its closer looks' detections instead"
                             ));
                             scores = None;
-                            belief = model.update(belief, seen);
+                            belief = looked.update(belief, seen);
                         }
                     },
-                    None => belief = model.update(belief, seen),
+                    None => belief = looked.update(belief, seen),
                 }
             }
         }
@@ -519,6 +685,89 @@ mod tests {
             "{reason}"
         );
         assert_eq!(v.rejected, vec![("cerealbox".to_string(), [4.5, 2.0])]);
+    }
+
+    /// An agent configuration with measured sensing of the cerealbox: one look within
+    /// 0.25–4 m finds it with probability 0.8, and a look repeated from one vantage point
+    /// repeats the first with correlation `rho`.
+    fn measured(rho: f64) -> crate::AgentConfig {
+        crate::AgentConfig {
+            measured_sensing: vec![crate::MeasuredSensing {
+                class: "cerealbox".into(),
+                detection_range: [0.25, 4.0],
+                ranges_by_zoom: vec![(1.0, [0.25, 4.0])],
+                false_negative: 0.2,
+                false_positive: 0.01,
+                found_by_zoom: vec![crate::FoundByDistance {
+                    zoom: 1.0,
+                    distances: vec![0.25, 6.0],
+                    found: vec![0.8, 0.8],
+                    looks: 0,
+                }],
+                repeat_correlation: rho,
+            }],
+            ..crate::AgentConfig::default()
+        }
+    }
+
+    /// The standpoints of a verification's closer looks, each once, in order.
+    fn stands(v: &Verified) -> Vec<[f64; 2]> {
+        let mut out: Vec<[f64; 2]> = Vec::new();
+        for e in &v.events {
+            if let Event::DtAction {
+                action,
+                view: Some(view),
+                ..
+            } = e
+            {
+                let p = [view.x, view.y];
+                if action.starts_with("VERIFY") && !out.iter().any(|q| q == &p) {
+                    out.push(p);
+                }
+            }
+        }
+        out
+    }
+
+    /// Where repeated looks say little new (the measured correlation of looks from one
+    /// vantage point), a miss sends the robot to a standpoint it has not looked from, and
+    /// misses from one spot move the belief less than independent ones would; where they are
+    /// new draws, every look comes from the one standpoint.
+    #[test]
+    fn looks_that_repeat_each_other_from_one_standpoint_send_the_robot_to_another() {
+        let k = testing::knowledge();
+        let nothing_there = |rho: f64| testing::verify_cerealbox_with(&k, &measured(rho), |_| {});
+        let independent = nothing_there(0.0);
+        assert_eq!(stands(&independent).len(), 1, "{:?}", stands(&independent));
+        let correlated = nothing_there(0.8);
+        let (accepted, belief, _) = decision(&correlated);
+        assert!(!accepted, "{belief:?}");
+        assert!(stands(&correlated).len() >= 2, "{:?}", stands(&correlated));
+        // Every standpoint walked to is looked from: no walking in circles.
+        let looks = hits(&correlated).len();
+        assert!(looks >= stands(&correlated).len(), "{looks}");
+    }
+
+    /// The likelihood of a verifier's looks with measured sensing: P(hit | object) is the
+    /// share measured at the look's distance, moved by the earlier looks from its vantage
+    /// point; a look from a new vantage point starts again from the share.
+    #[test]
+    fn a_look_from_a_vantage_point_already_looked_from_is_weighed_by_what_it_said() {
+        let k = testing::knowledge();
+        let config = measured(0.5);
+        let cx = testing::ctx(&k, &config);
+        let (base, _) = super::model(cx, "cerealbox");
+        let p = |earlier| super::at_look(cx, "cerealbox", base, (1.0, 2.0), earlier).hit_if_object;
+        assert!((p((0, 0)) - 0.8).abs() < 1e-12);
+        // ρ = 0.5: α + β = 1; after one miss (0.8 · 1 + 0) / (1 + 1) = 0.4.
+        assert!((p((0, 1)) - 0.4).abs() < 1e-12);
+        assert!((p((1, 1)) - 0.9).abs() < 1e-12);
+        // Without kept shares the class's constant rate.
+        let plain = crate::AgentConfig::default();
+        let cx = testing::ctx(&k, &plain);
+        let (base, _) = super::model(cx, "cerealbox");
+        let q = super::at_look(cx, "cerealbox", base, (1.0, 2.0), (0, 3));
+        assert_eq!(q, base);
     }
 
     #[test]
