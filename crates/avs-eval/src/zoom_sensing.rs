@@ -226,9 +226,10 @@ pub fn measure(
                     .unwrap_or_default()
             };
         let mut by_zoom = Vec::new();
-        // Per look, whether it and its repeat found the object, with the cell's share.
+        // Per look, whether it and its repeat found the object, with its cell (a zoom level
+        // and a distance).
         let mut pairs: Vec<(bool, bool, usize)> = Vec::new();
-        let mut cell_found: Vec<f64> = Vec::new();
+        let mut cells = 0usize;
         // A camera at the origin looking along +x at `zoom`.
         let ahead = |zoom: f64| ViewCone::new(Pose2D::new(0.0, 0.0, 0.0), 0.0, 0.0, zoom);
         for zoom in avs_view::view_zooms(camera.max_zoom) {
@@ -272,11 +273,11 @@ pub fn measure(
                     let hit = found_it(look(faces.clone(), depth, &cone, &mut rng));
                     // The same look again: the same scene, from the same vantage point.
                     let repeat = found_it(look(faces, depth, &cone, &mut again));
-                    pairs.push((hit, repeat, cell_found.len()));
+                    pairs.push((hit, repeat, cells));
                     hits += usize::from(hit);
                 }
                 found.push(hits as f64 / looks.max(1) as f64);
-                cell_found.push(*found.last().unwrap_or(&0.0));
+                cells += 1;
             }
             by_zoom.push(ZoomMeasurement {
                 zoom,
@@ -291,7 +292,7 @@ pub fn measure(
             false_hits += usize::from(!look(Vec::new(), depth, &ahead(1.0), &mut rng).is_empty());
         }
         let false_alarms = false_hits as f64 / looks.max(1) as f64;
-        let repeat_correlation = repeat_correlation(&pairs, &cell_found);
+        let repeat_correlation = repeat_correlation(&pairs, cells);
         let sensing = derive(&class.name, &by_zoom, false_alarms).map(|m| MeasuredSensing {
             repeat_correlation,
             ..m
@@ -314,8 +315,8 @@ pub const REPEAT_STREAM: u64 = 1;
 /// (h₂ − m) / Σ m (1 − m)`, with `m` the share of the cell's looks and repeats that found the
 /// object (the moment estimate of the intraclass correlation); inside [0, 0.99], 0 when no
 /// cell has both outcomes.
-fn repeat_correlation(pairs: &[(bool, bool, usize)], cell_found: &[f64]) -> f64 {
-    let mut share = vec![(0usize, 0usize); cell_found.len()];
+fn repeat_correlation(pairs: &[(bool, bool, usize)], cells: usize) -> f64 {
+    let mut share = vec![(0usize, 0usize); cells];
     for &(a, b, c) in pairs {
         share[c].0 += usize::from(a) + usize::from(b);
         share[c].1 += 2;
@@ -402,6 +403,40 @@ pub fn measured_sensing(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Pairs whose repeat copies the first outcome with probability ρ and is a new draw
+    /// otherwise have outcome correlation ρ exactly (P(both) = ρ m + (1 − ρ) m²): the
+    /// estimate finds it whatever the cells' shares; copies throughout give the clamp 0.99.
+    #[test]
+    fn the_repeat_correlation_is_the_correlation_the_pairs_were_drawn_with() {
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let shares = [0.2, 0.5, 0.8, 0.95];
+        let draw = |rho: f64, rng: &mut ChaCha8Rng| {
+            let mut pairs = Vec::new();
+            for (c, &m) in shares.iter().enumerate() {
+                for _ in 0..4000 {
+                    let a = rng.gen::<f64>() < m;
+                    let b = if rng.gen::<f64>() < rho {
+                        a
+                    } else {
+                        rng.gen::<f64>() < m
+                    };
+                    pairs.push((a, b, c));
+                }
+            }
+            repeat_correlation(&pairs, shares.len())
+        };
+        for rho in [0.0, 0.1, 0.3, 0.6] {
+            let est = draw(rho, &mut rng);
+            assert!((est - rho).abs() < 0.03, "ρ {rho}: estimated {est}");
+        }
+        assert_eq!(draw(1.0, &mut rng), 0.99);
+        // A cell every look finds (or none does) says nothing of the correlation.
+        assert_eq!(
+            repeat_correlation(&[(true, true, 0), (true, true, 0)], 1),
+            0.0
+        );
+    }
 
     #[test]
     fn the_range_is_the_run_around_the_best_distance_at_or_above_one_half_to_where_it_crosses_one_half(
