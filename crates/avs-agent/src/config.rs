@@ -672,6 +672,37 @@ mod tests {
     }
 
     #[test]
+    fn with_the_shares_kept_a_distance_is_looked_at_through_the_level_that_found_most_there() {
+        let shares = |zoom: f64, found: Vec<f64>| FoundByDistance {
+            zoom,
+            distances: (1..=found.len()).map(|i| 0.25 * i as f64 * zoom).collect(),
+            found,
+            looks: 20,
+        };
+        let mut m = MeasuredSensing {
+            class: "cerealbox".into(),
+            detection_range: [0.25, 2.45],
+            ranges_by_zoom: vec![(1.0, [0.25, 2.45]), (2.0, [0.5, 3.42]), (4.0, [1.0, 7.14])],
+            false_negative: 0.1,
+            false_positive: 0.001,
+            found_by_zoom: Vec::new(),
+            repeat_correlation: 0.0,
+        };
+        // Without shares: the level that holds 1.25 m nearest its middle.
+        assert_eq!(m.zoom_at(1.25), Some(1.0));
+        // With them: zoom 4 found it at 1 and 2 m more often than zoom 1 or 2 did at 1.25 m.
+        m.found_by_zoom = vec![
+            shares(1.0, vec![1.0, 1.0, 0.95, 0.95, 0.9, 1.0]),
+            shares(2.0, vec![1.0, 0.95, 0.8, 0.6]),
+            shares(4.0, vec![0.95, 1.0, 1.0, 1.0]),
+        ];
+        assert_eq!(m.zoom_at(1.25), Some(4.0));
+        // Where only one level reaches, that one.
+        assert_eq!(m.zoom_at(0.4), Some(1.0));
+        assert_eq!(m.zoom_at(5.0), Some(4.0));
+    }
+
+    #[test]
     fn a_looks_chance_to_find_is_the_share_measured_at_its_distance_through_the_nearest_level() {
         let shares = |zoom: f64, found: Vec<f64>| FoundByDistance {
             zoom,
@@ -824,19 +855,25 @@ impl MeasuredSensing {
 
     /// The measured level [`Self::zoom_at`] picks for `distance`: its zoom and its range
     /// `[min, max]` (metres, where one look through it finds the object at least half the
-    /// time).
+    /// time). Of the levels whose range holds the distance, the one whose looks found the
+    /// object most often at that distance ([`Self::found_share`]) — a look is taken to find
+    /// the object, and the calibration says which zoom does best there; where the shares were
+    /// not kept (or tie), the one that holds the distance nearest the middle of its range.
     pub fn level_at(&self, distance: f64) -> Option<(f64, [f64; 2])> {
         self.ranges_by_zoom
             .iter()
             .filter(|(_, [lo, hi])| (*lo..=*hi).contains(&distance) && hi > lo)
             .map(|&(z, [lo, hi])| {
-                (
-                    (z, [lo, hi]),
-                    (distance - 0.5 * (lo + hi)).abs() / (hi - lo),
-                )
+                let share = self.found_share(z, distance).unwrap_or(0.0);
+                let off_middle = (distance - 0.5 * (lo + hi)).abs() / (hi - lo);
+                ((z, [lo, hi]), share, off_middle)
             })
-            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0 .0.total_cmp(&b.0 .0)))
-            .map(|(level, _)| level)
+            .min_by(|a, b| {
+                b.1.total_cmp(&a.1)
+                    .then(a.2.total_cmp(&b.2))
+                    .then(a.0 .0.total_cmp(&b.0 .0))
+            })
+            .map(|(level, _, _)| level)
     }
 
     /// P(one look through zoom `zoom` finds the object `distance` metres away (3-D)), as

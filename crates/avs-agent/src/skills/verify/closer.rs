@@ -169,7 +169,8 @@ impl Closer<'_> {
     /// to be — the sighting, then the most confident closer detection so far — and zoomed so
     /// that it lies in the middle of the recognition range (Sjöö et al., §3.4: the distance
     /// interval scales with the zoom); with measured sensing (the zoom pipeline's), through
-    /// the measured level that reaches it best — a zoomed look of the pipeline does not reach
+    /// the measured level whose looks found the class most often at that distance
+    /// ([`crate::MeasuredSensing::level_at`]) — a zoomed look of the pipeline does not reach
     /// the zoom times its unzoomed range. The detection of the class within `confirm_radius` of
     /// the sighting with the highest confidence (at least `confirm_min_confidence`), if any;
     /// the look is a `VERIFY` trace line. With `recognised_only`, a detection counts only
