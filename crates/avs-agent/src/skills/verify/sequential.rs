@@ -142,7 +142,7 @@ fn model(cx: Ctx, label: &str) -> (BinaryLooks, StopCosts) {
 /// pipeline's shares found kept, P(hit | object) is the share measured at that zoom and
 /// distance ([`crate::MeasuredSensing::found_share`]), moved by the earlier looks from there
 /// by the measured correlation of repeated looks ([`crate::MeasuredSensing::found_next`];
-/// module docs, "The detector"), else `model`'s.
+/// module docs, "Measured looks, where they are taken"), else `model`'s.
 fn at_look(
     cx: Ctx,
     label: &str,
@@ -193,9 +193,7 @@ fn fresh_stand<R: Robot + ?Sized>(
     let now = body.pose();
     let near = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]) <= SAME_STANDPOINT;
     let new = |p: [f64; 2]| {
-        !near(p, [now.x, now.y])
-            && !walked.iter().any(|&w| near(p, w))
-            && !taken.0.iter().any(|v| near(p, v.0))
+        !near(p, [now.x, now.y]) && !walked.iter().any(|&w| near(p, w)) && !taken.looked_from(p)
     };
     let Some((p, walk)) = closer.nearest_stand(cx, mem, body, new) else {
         return Ok(false);
@@ -216,33 +214,54 @@ fn fresh_stand<R: Robot + ?Sized>(
 /// Two standpoints this close (metres) are one vantage point.
 const SAME_STANDPOINT: f64 = 0.05;
 
-/// The closer looks taken so far by vantage point — a standpoint and a zoom — with the hits
-/// and looks from each (module docs, "The detector").
+/// The closer looks taken so far, by vantage point (module docs, "Measured looks, where they
+/// are taken").
 #[derive(Default)]
-struct Vantages(Vec<([f64; 2], f64, usize, usize)>);
+struct Vantages(Vec<Vantage>);
+
+/// One vantage point's looks: a standpoint and a zoom, with the hits and looks from there.
+struct Vantage {
+    at: [f64; 2],
+    zoom: f64,
+    hits: usize,
+    looks: usize,
+}
+
+impl Vantage {
+    fn is(&self, at: [f64; 2], zoom: f64) -> bool {
+        (self.at[0] - at[0]).hypot(self.at[1] - at[1]) <= SAME_STANDPOINT
+            && (self.zoom - zoom).abs() < 1e-9
+    }
+}
 
 impl Vantages {
     /// The (hits, looks) from standpoint `at` through zoom `zoom`.
     fn tally(&self, at: [f64; 2], zoom: f64) -> (usize, usize) {
         self.0
             .iter()
-            .find(|v| Self::same(v, at, zoom))
-            .map_or((0, 0), |v| (v.2, v.3))
+            .find(|v| v.is(at, zoom))
+            .map_or((0, 0), |v| (v.hits, v.looks))
     }
 
     /// Count a look from `at` through `zoom` that found the object or not.
     fn record(&mut self, at: [f64; 2], zoom: f64, hit: bool) {
-        match self.0.iter_mut().find(|v| Self::same(v, at, zoom)) {
+        match self.0.iter_mut().find(|v| v.is(at, zoom)) {
             Some(v) => {
-                v.2 += usize::from(hit);
-                v.3 += 1;
+                v.hits += usize::from(hit);
+                v.looks += 1;
             }
-            None => self.0.push((at, zoom, usize::from(hit), 1)),
+            None => self.0.push(Vantage {
+                at,
+                zoom,
+                hits: usize::from(hit),
+                looks: 1,
+            }),
         }
     }
 
-    fn same(v: &([f64; 2], f64, usize, usize), at: [f64; 2], zoom: f64) -> bool {
-        (v.0[0] - at[0]).hypot(v.0[1] - at[1]) <= SAME_STANDPOINT && (v.1 - zoom).abs() < 1e-9
+    /// Whether a look was taken from standpoint `p`, through any zoom.
+    fn looked_from(&self, p: [f64; 2]) -> bool {
+        self.0.iter().any(|v| v.is(p, v.zoom))
     }
 }
 
@@ -345,7 +364,7 @@ pub(crate) fn sequential<R: Robot + ?Sized>(
                 let earlier = taken.tally([here.x, here.y], zoom);
                 let priced = at_look(cx, label, model, (zoom, away), earlier);
                 // Looks repeated from here may say less than one from a standpoint not looked
-                // from yet: walk there when that pays (module docs, "The detector").
+                // from yet: walk there when that pays (module docs, "Measured looks").
                 if lengths.is_none()
                     && fresh_stand(
                         cx,
