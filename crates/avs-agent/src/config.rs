@@ -671,30 +671,43 @@ mod tests {
         assert!(e.contains("tuning.cover_fov_share"), "{e}");
     }
 
-    #[test]
-    fn with_the_shares_kept_a_distance_is_looked_at_through_the_level_that_found_most_there() {
-        let shares = |zoom: f64, found: Vec<f64>| FoundByDistance {
+    /// Shares found through `zoom`, measured at 0.25, 0.5, … m times the zoom (the
+    /// calibration's distances) with `looks` looks each.
+    fn shares(zoom: f64, found: Vec<f64>, looks: usize) -> FoundByDistance {
+        FoundByDistance {
             zoom,
             distances: (1..=found.len()).map(|i| 0.25 * i as f64 * zoom).collect(),
             found,
-            looks: 20,
-        };
-        let mut m = MeasuredSensing {
-            class: "cerealbox".into(),
-            detection_range: [0.25, 2.45],
-            ranges_by_zoom: vec![(1.0, [0.25, 2.45]), (2.0, [0.5, 3.42]), (4.0, [1.0, 7.14])],
+            looks,
+        }
+    }
+
+    /// Sensing of `class` measured at `ranges_by_zoom`, without kept shares.
+    fn sensing(class: &str, ranges_by_zoom: Vec<(f64, [f64; 2])>) -> MeasuredSensing {
+        MeasuredSensing {
+            class: class.into(),
+            detection_range: ranges_by_zoom[0].1,
+            ranges_by_zoom,
             false_negative: 0.1,
             false_positive: 0.001,
             found_by_zoom: Vec::new(),
             repeat_correlation: 0.0,
-        };
+        }
+    }
+
+    #[test]
+    fn with_the_shares_kept_a_distance_is_looked_at_through_the_level_that_found_most_there() {
+        let mut m = sensing(
+            "cerealbox",
+            vec![(1.0, [0.25, 2.45]), (2.0, [0.5, 3.42]), (4.0, [1.0, 7.14])],
+        );
         // Without shares: the level that holds 1.25 m nearest its middle.
         assert_eq!(m.zoom_at(1.25), Some(1.0));
         // With them: zoom 4 found it at 1 and 2 m more often than zoom 1 or 2 did at 1.25 m.
         m.found_by_zoom = vec![
-            shares(1.0, vec![1.0, 1.0, 0.95, 0.95, 0.9, 1.0]),
-            shares(2.0, vec![1.0, 0.95, 0.8, 0.6]),
-            shares(4.0, vec![0.95, 1.0, 1.0, 1.0]),
+            shares(1.0, vec![1.0, 1.0, 0.95, 0.95, 0.9, 1.0], 20),
+            shares(2.0, vec![1.0, 0.95, 0.8, 0.6], 20),
+            shares(4.0, vec![0.95, 1.0, 1.0, 1.0], 20),
         ];
         assert_eq!(m.zoom_at(1.25), Some(4.0));
         // Where only one level reaches, that one.
@@ -704,23 +717,16 @@ mod tests {
 
     #[test]
     fn a_looks_chance_to_find_is_the_share_measured_at_its_distance_through_the_nearest_level() {
-        let shares = |zoom: f64, found: Vec<f64>| FoundByDistance {
-            zoom,
-            distances: (1..=found.len()).map(|i| 0.25 * i as f64 * zoom).collect(),
-            found,
-            looks: 0,
-        };
         let m = MeasuredSensing {
-            class: "whiteboardmarker".into(),
-            detection_range: [0.25, 0.75],
-            ranges_by_zoom: vec![(1.0, [0.25, 0.75]), (4.0, [1.0, 1.73])],
             false_negative: 0.13,
-            false_positive: 0.001,
-            repeat_correlation: 0.0,
             found_by_zoom: vec![
-                shares(1.0, vec![0.9, 0.85, 0.55, 0.1]),
-                shares(4.0, vec![0.9, 0.35, 0.05]),
+                shares(1.0, vec![0.9, 0.85, 0.55, 0.1], 0),
+                shares(4.0, vec![0.9, 0.35, 0.05], 0),
             ],
+            ..sensing(
+                "whiteboardmarker",
+                vec![(1.0, [0.25, 0.75]), (4.0, [1.0, 1.73])],
+            )
         };
         let close = |a: Option<f64>, b: f64| a.is_some_and(|a| (a - b).abs() < 1e-12);
         // Between the measured distances: linear (zoom 4 measured at 1, 2 and 3 m).
@@ -751,15 +757,10 @@ mod tests {
 
     #[test]
     fn the_zoom_for_a_distance_is_the_measured_level_that_holds_it_nearest_its_middle() {
-        let m = MeasuredSensing {
-            class: "whiteboardmarker".into(),
-            detection_range: [0.25, 0.75],
-            ranges_by_zoom: vec![(1.0, [0.25, 0.75]), (2.0, [0.5, 1.0]), (4.0, [1.0, 2.0])],
-            false_negative: 0.15,
-            false_positive: 0.01,
-            found_by_zoom: Vec::new(),
-            repeat_correlation: 0.0,
-        };
+        let m = sensing(
+            "whiteboardmarker",
+            vec![(1.0, [0.25, 0.75]), (2.0, [0.5, 1.0]), (4.0, [1.0, 2.0])],
+        );
         assert_eq!(m.zoom_at(0.4), Some(1.0));
         // 0.7 m: inside zoom 1's range near its end, in the middle of zoom 2's.
         assert_eq!(m.zoom_at(0.7), Some(2.0));
