@@ -7,6 +7,23 @@ use crate::task::{Operator, Task, Variable};
 use crate::PlanError;
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 
+/// The objects a lifted atom's arguments `args` name under `binding`.
+fn ground_args(args: &[Term], binding: &[usize], objs: &[String]) -> Vec<String> {
+    args.iter()
+        .map(|t| resolve(t, binding, objs).to_string())
+        .collect()
+}
+
+/// The ground atom `pred(args)` under `binding`, as grounding keys atoms.
+fn ground_atom(
+    pred: &str,
+    args: &[Term],
+    binding: &[usize],
+    objs: &[String],
+) -> (String, Vec<String>) {
+    (pred.to_string(), ground_args(args, binding, objs))
+}
+
 fn resolve<'a>(t: &'a Term, binding: &'a [usize], objs: &'a [String]) -> &'a str {
     match t {
         Term::Param(i) => &objs[binding[*i]],
@@ -162,10 +179,7 @@ pub fn ground_with(
             g.enumerate(&mut binding, &mut found)?;
             for b in found {
                 for (pred, args) in &a.add {
-                    let args: Vec<String> = args
-                        .iter()
-                        .map(|t| resolve(t, &b, &objs).to_string())
-                        .collect();
+                    let args = ground_args(args, &b, &objs);
                     let arity = args.len();
                     if reached.insert((pred.clone(), args)) {
                         budget.fact(what, reached.len(), arity)?;
@@ -275,12 +289,7 @@ pub fn ground_with(
                 if !fluent.contains(pred.as_str()) {
                     continue; // static: checked while grounding
                 }
-                let key = (
-                    pred.clone(),
-                    args.iter()
-                        .map(|t| resolve(t, &b, &objs).to_string())
-                        .collect(),
-                );
+                let key = ground_atom(pred, args, &b, &objs);
                 match var_of.get(&key) {
                     Some(&v) => {
                         let want = (!negated) as u32;
@@ -296,27 +305,13 @@ pub fn ground_with(
         if !ok {
             continue;
         }
+        // Deletes first, then adds (an atom both deleted and added ends true).
         let mut eff: BTreeMap<u32, u32> = BTreeMap::new();
-        for (pred, args) in &a.del {
-            let key = (
-                pred.clone(),
-                args.iter()
-                    .map(|t| resolve(t, &b, &objs).to_string())
-                    .collect(),
-            );
-            if let Some(&v) = var_of.get(&key) {
-                eff.insert(v, 0);
-            }
-        }
-        for (pred, args) in &a.add {
-            let key = (
-                pred.clone(),
-                args.iter()
-                    .map(|t| resolve(t, &b, &objs).to_string())
-                    .collect(),
-            );
-            if let Some(&v) = var_of.get(&key) {
-                eff.insert(v, 1);
+        for (atoms, value) in [(&a.del, 0), (&a.add, 1)] {
+            for (pred, args) in atoms {
+                if let Some(&v) = var_of.get(&ground_atom(pred, args, &b, &objs)) {
+                    eff.insert(v, value);
+                }
             }
         }
         let cost = if use_costs {
@@ -325,12 +320,7 @@ pub fn ground_with(
                 c += match e {
                     CostExpr::Number(n) => *n,
                     CostExpr::Fluent(f, args) => {
-                        let key = (
-                            f.clone(),
-                            args.iter()
-                                .map(|t| resolve(t, &b, &objs).to_string())
-                                .collect(),
-                        );
+                        let key = ground_atom(f, args, &b, &objs);
                         *p.numeric.get(&key).ok_or_else(|| {
                             err(
                                 domain_file,
@@ -415,12 +405,7 @@ impl Grounding<'_> {
                     args,
                     negated,
                 } => {
-                    let key = (
-                        pred.clone(),
-                        args.iter()
-                            .map(|t| resolve(t, binding, objs).to_string())
-                            .collect(),
-                    );
+                    let key = ground_atom(pred, args, binding, objs);
                     if self.fluent.contains(pred.as_str()) {
                         *negated || self.reached.contains(&key)
                     } else {
