@@ -14,6 +14,17 @@ fn ground_args(args: &[Term], binding: &[usize], objs: &[String]) -> Vec<String>
         .collect()
 }
 
+/// The objects a goal atom's arguments name (a goal has no parameters; one would name no
+/// object, "").
+fn goal_args(args: &[Term]) -> Vec<String> {
+    args.iter()
+        .map(|t| match t {
+            Term::Object(o) => o.clone(),
+            Term::Param(_) => String::new(),
+        })
+        .collect()
+}
+
 /// The ground atom `pred(args)` under `binding`, as grounding keys atoms.
 fn ground_atom(
     pred: &str,
@@ -202,13 +213,7 @@ pub fn ground_with(
         .collect();
     for g in &p.goal {
         if let Literal::Atom { pred, args, .. } = g {
-            let args: Vec<String> = args
-                .iter()
-                .map(|t| match t {
-                    Term::Object(o) => o.clone(),
-                    Term::Param(_) => String::new(),
-                })
-                .collect();
+            let args = goal_args(args);
             if fluent.contains(pred.as_str()) || !init.contains(&(pred.clone(), args.clone())) {
                 atoms.insert((pred.clone(), args));
             }
@@ -246,14 +251,7 @@ pub fn ground_with(
                 args,
                 negated,
             } => {
-                let args: Vec<String> = args
-                    .iter()
-                    .map(|t| match t {
-                        Term::Object(o) => o.clone(),
-                        Term::Param(_) => String::new(),
-                    })
-                    .collect();
-                let key = (pred.clone(), args);
+                let key = (pred.clone(), goal_args(args));
                 match var_of.get(&key) {
                     Some(&v) => {
                         goal.insert(v, (!negated) as u32);
