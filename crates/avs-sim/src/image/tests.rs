@@ -164,6 +164,81 @@ fn an_object_behind_a_wall_is_not_in_the_image() {
     assert!(s.objects.is_empty());
 }
 
+/// A room with a shelf 1.75 m ahead of the robot, a cereal box in it 5 cm behind the
+/// shelf's middle (`shelf: false` leaves the shelf out).
+fn shelf_world(shelf: bool) -> World {
+    let mut text = vec![
+        "kind: environment",
+        "name: shelved",
+        "map:",
+        "  resolution: 0.5",
+        "  ascii: |",
+        "    ########",
+        "    #......#",
+        "    #......#",
+        "    #......#",
+        "    ########",
+        "rooms:",
+        "  - { name: kitchen, category: kitchen, seed: { x: 1.0, y: 1.25 } }",
+        "objects:",
+    ];
+    if shelf {
+        text.push("  - { id: box, class: cerealbox, role: target, room: kitchen, in: shelf1, pose: { x: 2.55, y: 1.25, z: 0.9, yaw_deg: 180 }, size: [0.19, 0.07, 0.28] }");
+        text.push("  - { id: shelf1, class: shelf, role: landmark, room: kitchen, pose: { x: 2.5, y: 1.25, z: 0.0, yaw_deg: 180 }, size: [0.9, 0.4, 1.8] }");
+    } else {
+        text.push("  - { id: box, class: cerealbox, role: target, room: kitchen, pose: { x: 2.55, y: 1.25, z: 0.9, yaw_deg: 180 }, size: [0.19, 0.07, 0.28] }");
+    }
+    text.push("robot: { start: { x: 0.75, y: 1.25 }, radius: 0.2 }");
+    let env: avs_format::environment::Environment =
+        avs_format::load_yaml_str("shelved.yaml", &text.join("\n")).unwrap();
+    World::new(env, Path::new(".")).unwrap()
+}
+
+#[test]
+fn a_shelf_shows_what_lies_in_it_in_front_of_its_back_panel() {
+    let cone = ViewCone::new(Pose2D::new(0.75, 1.25, 0.0), 0.0, -0.1, 1.0);
+    let config = crate::sim_robot::ImageConfig::default();
+    let strongest = |world: &World| -> (ImageScene, f64) {
+        let camera = Camera::from(&world.env.camera);
+        let s = world_scene(world, &world.walls, &knowledge(), &camera, &cone, &config);
+        let classes = ["cerealbox".to_string()];
+        let best = (0..20)
+            .map(|seed| {
+                let m = attention(
+                    &config.model,
+                    &s,
+                    &camera,
+                    &cone,
+                    &config.geometry,
+                    &classes,
+                    &mut ChaCha8Rng::seed_from_u64(seed),
+                );
+                m[0].values.iter().copied().fold(0.0, f64::max)
+            })
+            .sum::<f64>()
+            / 20.0;
+        (s, best)
+    };
+    let (with, in_shelf) = strongest(&shelf_world(true));
+    let (_, alone) = strongest(&shelf_world(false));
+    // The shelf's face stands at its back, behind the box (its middle is nearer than the box).
+    let x = |class: &str| {
+        with.objects
+            .iter()
+            .find(|o| o.class == class)
+            .unwrap()
+            .centre
+            .x
+    };
+    assert!((x("shelf") - 2.7).abs() < 1e-9, "{}", x("shelf"));
+    assert!(x("shelf") > x("cerealbox"));
+    // So the attention sees the box in the shelf as it does without it.
+    assert!(
+        in_shelf > 0.9 * alone,
+        "in the shelf {in_shelf}, alone {alone}"
+    );
+}
+
 fn recognise(s: &ImageScene, seed: u64) -> Recognition {
     let book = ClassAppearance {
         name: "book".into(),
