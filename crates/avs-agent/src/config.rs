@@ -551,8 +551,9 @@ pub struct Tuning {
     pub pose_spacing: f64,
     /// Looks a DT session may take beyond one per cone (second looks at detections).
     pub session_extra_looks: usize,
-    /// Share of a class's detection range (from its near end) within which view planning
-    /// counts a point as covered.
+    /// Share of a class's detection range from the knowledge (from its near end) within which
+    /// view planning counts a point as covered (a measured range counts whole: it ends where
+    /// the detector finds the object half the time).
     pub cover_range_share: f64,
     /// Share of the camera's field of view in which view planning counts a point as covered.
     pub cover_fov_share: f64,

@@ -568,9 +568,15 @@ pub(crate) fn room_points(
 /// at too, each with its measured range — a zoomed look of the pipeline reaches less than the
 /// zoom times its unzoomed range, and a class whose unzoomed range is short (a marker: 0.25–
 /// 0.71 m) is looked for from afar only through the zoom. Otherwise a level's range is the
-/// zoom times the unzoomed one. Of each range only the nearer part counts: at its far end the
-/// detector misses most of the time ([`Tuning::cover_range_share`](crate::config::Tuning)).
-/// Measured levels beyond the camera's `max_zoom` are left out.
+/// zoom times the unzoomed one. Of a range from the knowledge only the nearer part counts: at
+/// its far end the detector misses most of the time
+/// ([`Tuning::cover_range_share`](crate::config::Tuning)). A measured range counts whole: it
+/// already ends where the share of looks that found the object crosses ½, and cutting it
+/// again left a whiteboard marker on the floor in no view's range — zoom 4 finds it from
+/// 1.0–1.73 m, the floor lies 1.19 m below the camera and the tilt limit (−45°, the image's
+/// central three quarters) shows it from 1.06 m on, so 80 % of the range (to 1.58 m, 1.04 m
+/// along the floor) reached no floor point at all. Measured levels beyond the camera's
+/// `max_zoom` are left out.
 fn range_levels(
     cx: Ctx,
     class: &ObjectClass,
@@ -594,7 +600,7 @@ fn range_levels(
             let near_part = |[near, far]: [f64; 2]| [near, near + share * (far - near)];
             let [min, max] = match measured.and_then(|m| m.ranges_by_zoom.iter().find(|l| l.0 == z))
             {
-                Some(l) => near_part(l.1),
+                Some(l) => l.1,
                 None => near_part(detection_range(cx, class)).map(|d| d * z),
             };
             (z, DetectionRange { min, max })
@@ -778,6 +784,75 @@ mod planning_tests {
         mem.looks.insert("cerealbox".into(), looked);
         let after = search_cost(cx, &mem, &cam, "cerealbox", room).expect("priced");
         assert!(after.metres < before.metres, "{after:?} vs {before:?}");
+    }
+
+    /// The zoom pipeline's measured marker: zoom 4 finds it from 1.0 to 1.73 m. Its whole
+    /// range counts (it already ends where half the looks find it), and the coverage's views
+    /// reach the floor of the room, 1.19 m below the camera, only with it.
+    #[test]
+    fn a_measured_range_counts_whole_and_reaches_a_marker_on_the_floor() {
+        let InRoom {
+            mut config,
+            k,
+            mem,
+            cam,
+            room,
+        } = in_room(testing::room(5.0, 4.0));
+        let ConeLoc::Room(r) = room else {
+            unreachable!("a room")
+        };
+        let marker = crate::MeasuredSensing {
+            class: "whiteboardmarker".into(),
+            detection_range: [0.25, 0.71],
+            ranges_by_zoom: vec![(1.0, [0.25, 0.71]), (2.0, [0.5, 0.86]), (4.0, [1.0, 1.73])],
+            false_negative: 0.13,
+            false_positive: 0.001,
+            found_by_zoom: Vec::new(),
+            repeat_correlation: 0.0,
+        };
+        config.measured_sensing = vec![marker];
+        let floor_views = |config: &AgentConfig| {
+            let cx = testing::ctx(&k, config);
+            let class = k.class("whiteboardmarker").unwrap();
+            let levels = range_levels(cx, class, &[1.0], cam.max_zoom);
+            let points = room_points(cx, &mem, r, class, true);
+            let floor: Vec<usize> = (0..points.len()).filter(|&i| points[i][2] < 0.05).collect();
+            assert!(!floor.is_empty());
+            let set = plan_cones(
+                cx,
+                &mem,
+                &cam,
+                "whiteboardmarker",
+                room,
+                Some(points),
+                &[1.0],
+            )
+            .expect("a known class");
+            let on_floor = set
+                .cells
+                .iter()
+                .flatten()
+                .filter(|i| floor.contains(i))
+                .count();
+            (levels, on_floor)
+        };
+        let (levels, on_floor) = floor_views(&config);
+        assert_eq!(
+            levels.last(),
+            Some(&(
+                4.0,
+                DetectionRange {
+                    min: 1.0,
+                    max: 1.73
+                }
+            ))
+        );
+        assert!(on_floor > 0, "no view covers a point of the floor");
+        // Cut to the nearer 80 % as a range from the knowledge is, no view reached the floor.
+        let share = config.tuning.cover_range_share;
+        config.measured_sensing[0].ranges_by_zoom[2].1[1] = 1.0 + share * 0.73;
+        let (_, cut) = floor_views(&config);
+        assert_eq!(cut, 0);
     }
 
     #[test]
