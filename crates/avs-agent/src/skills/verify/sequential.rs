@@ -228,9 +228,14 @@ struct Vantage {
 }
 
 impl Vantage {
-    fn is(&self, at: [f64; 2], zoom: f64) -> bool {
+    /// Whether its standpoint is `at`.
+    fn stands_at(&self, at: [f64; 2]) -> bool {
         (self.at[0] - at[0]).hypot(self.at[1] - at[1]) <= SAME_STANDPOINT
-            && (self.zoom - zoom).abs() < 1e-9
+    }
+
+    /// Whether it is the vantage point of standpoint `at` and zoom `zoom`.
+    fn is(&self, at: [f64; 2], zoom: f64) -> bool {
+        self.stands_at(at) && (self.zoom - zoom).abs() < 1e-9
     }
 }
 
@@ -261,7 +266,7 @@ impl Vantages {
 
     /// Whether a look was taken from standpoint `p`, through any zoom.
     fn looked_from(&self, p: [f64; 2]) -> bool {
-        self.0.iter().any(|v| v.is(p, v.zoom))
+        self.0.iter().any(|v| v.stands_at(p))
     }
 }
 
